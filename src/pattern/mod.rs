@@ -1,0 +1,501 @@
+//! Finite point sets on the unit torus `[0, 1)^D`, `D = 1, 2, 3`.
+//!
+//! Every pattern implements [`Pattern<D>`]: it writes its `N` points (or any
+//! contiguous range of them) into caller storage, as array-of-structs
+//! `[[f32; D]]` or as a structure-of-arrays batch (`D` slices of `f32`), with no
+//! allocation. The points are a pure function of the [`Seed`]: the SIMD path, the
+//! scalar path ([`Pattern::fill_range_scalar`]), any split of the range into
+//! batches, and any SIMD width give bit-identical results (tested lane by lane).
+//!
+//! Every coordinate lies in `[0, 1)`: never `1.0`, never NaN. Stratified patterns
+//! guarantee exact stratum membership of the `f32` value: for a stratum
+//! `[c/m, (c+1)/m)` the returned `x` satisfies `c ≤ x·m < c + 1` in exact arithmetic.
+//!
+//! [`Shifted`] adds a random toroidal shift (Cranley–Patterson rotation[^1]),
+//! `x ↦ (x + s) mod 1` with `s` drawn from the seed: the homogenisation that makes a
+//! pattern's statistics shift-invariant, which every spectral variance analysis
+//! assumes (Pilleboue et al. 2015).
+//!
+//! | pattern | dims | `N` |
+//! |---|---|---|
+//! | [`Random`] | 1–3 | any |
+//! | [`Jittered`] | 1–3 | `m₁·…·m_D` strata |
+//! | [`NRooks`] (Latin hypercube) | 1–3 | any |
+//! | [`MultiJittered`] (Chiu, Shirley & Wang 1994) | 2 | `m·n` |
+//! | [`CorrelatedMultiJittered`] (Kensler 2013) | 2 | `m·n` |
+//! | [`Sobol`] (Owen-scrambled, Burley 2020) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
+//! | [`Halton`] (Owen-scrambled) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
+//!
+//! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
+//!   for Multiple Integration*, SIAM J. Numer. Anal. 13(6), 1976.
+
+mod halton;
+mod jittered;
+mod multijitter;
+mod nrooks;
+mod random;
+mod sobol;
+
+pub use halton::{radical_inverse, Halton, HALTON_BASES, HALTON_DIMENSIONS};
+pub use jittered::Jittered;
+pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
+pub use nrooks::NRooks;
+pub use random::Random;
+pub use sobol::{Sobol, SOBOL_DIMENSIONS};
+
+use crate::error::PatternError;
+use crate::rng::Seed;
+use wide::f32x8;
+
+/// The largest `f32` below 1: `1 − 2⁻²⁴`.
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+
+/// Largest dimension a [`Pattern`] supports.
+pub const MAX_DIMS: usize = 3;
+
+/// A finite point set of `N` points in `[0, 1)^D`, deterministic from a [`Seed`].
+///
+/// Implementations never allocate. All methods check their arguments and return
+/// [`PatternError`] instead of panicking.
+pub trait Pattern<const D: usize> {
+    /// `N`, the number of points of one realisation.
+    fn len(&self) -> usize;
+
+    /// Always `false`: constructors reject `N = 0`.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// Writes points `first .. first + out.len()` (SIMD path).
+    ///
+    /// # Errors
+    /// [`PatternError::Range`] if the range runs past `N`.
+    fn fill_range(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError>;
+
+    /// Same points as [`Pattern::fill_range`], computed one point at a time by the
+    /// scalar reference path.
+    ///
+    /// # Errors
+    /// [`PatternError::Range`] if the range runs past `N`.
+    fn fill_range_scalar(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError>;
+
+    /// Structure-of-arrays batch: coordinate `j` of point `first + i` goes to
+    /// `out[j][i]`. All `D` slices must have the same length.
+    ///
+    /// # Errors
+    /// [`PatternError::OutputLength`] if the slices differ in length,
+    /// [`PatternError::Range`] if the range runs past `N`.
+    fn fill_range_soa(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: [&mut [f32]; D],
+    ) -> Result<(), PatternError>;
+
+    /// Writes all `N` points.
+    ///
+    /// # Errors
+    /// [`PatternError::OutputLength`] if `out.len() != N`.
+    fn fill(&self, seed: Seed, out: &mut [[f32; D]]) -> Result<(), PatternError> {
+        if out.len() != self.len() {
+            return Err(PatternError::OutputLength {
+                expected: self.len(),
+                got: out.len(),
+            });
+        }
+        self.fill_range(seed, 0, out)
+    }
+
+    /// This pattern with a random toroidal shift drawn from the seed.
+    fn shifted(self) -> Shifted<Self>
+    where
+        Self: Sized,
+    {
+        Shifted { inner: self }
+    }
+
+    /// Allocating convenience: all `N` points in a new `Vec`.
+    ///
+    /// # Errors
+    /// As [`Pattern::fill`].
+    #[cfg(feature = "alloc")]
+    fn to_vec(&self, seed: Seed) -> Result<alloc::vec::Vec<[f32; D]>, PatternError> {
+        let mut v = alloc::vec![[0.0f32; D]; self.len()];
+        self.fill(seed, &mut v)?;
+        Ok(v)
+    }
+}
+
+/// Checks `D` against the supported range, for constructors.
+pub(crate) const fn check_dims<const D: usize>(min: usize, max: usize) -> Result<(), PatternError> {
+    if D < min || D > max {
+        Err(PatternError::Dims { dims: D, min, max })
+    } else {
+        Ok(())
+    }
+}
+
+pub(crate) fn check_range(n: u64, first: usize, len: usize) -> Result<(), PatternError> {
+    let end = (first as u64).checked_add(len as u64);
+    match end {
+        Some(e) if e <= n => Ok(()),
+        _ => Err(PatternError::Range {
+            first: first as u64,
+            len: len as u64,
+            n,
+        }),
+    }
+}
+
+pub(crate) mod sealed {
+    use super::f32x8;
+    use crate::rng::Seed;
+
+    /// Where generated points go: array-of-structs or structure-of-arrays.
+    pub trait Sink<const D: usize> {
+        /// Number of points the sink holds.
+        fn len(&self) -> usize;
+        /// Point `i`.
+        fn put(&mut self, i: usize, p: [f32; D]);
+        /// Points `i .. i + 8`, coordinate `j` of point `i + l` in lane `l` of `v[j]`.
+        fn put8(&mut self, i: usize, v: [f32x8; D]);
+    }
+
+    /// The generator behind a pattern: `count` points starting at `first` into `sink`.
+    pub trait Generate<const D: usize> {
+        fn n(&self) -> u64;
+        fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S);
+        fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S);
+    }
+}
+
+use sealed::{Generate, Sink};
+
+pub(crate) struct Aos<'a, const D: usize>(pub &'a mut [[f32; D]]);
+
+impl<const D: usize> Sink<D> for Aos<'_, D> {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+    #[inline(always)]
+    fn put(&mut self, i: usize, p: [f32; D]) {
+        self.0[i] = p;
+    }
+    #[inline(always)]
+    fn put8(&mut self, i: usize, v: [f32x8; D]) {
+        let a: [[f32; 8]; D] = core::array::from_fn(|j| v[j].to_array());
+        let dst = &mut self.0[i..i + 8];
+        for (l, p) in dst.iter_mut().enumerate() {
+            *p = core::array::from_fn(|j| a[j][l]);
+        }
+    }
+}
+
+pub(crate) struct Soa<'a, const D: usize>(pub [&'a mut [f32]; D]);
+
+impl<const D: usize> Sink<D> for Soa<'_, D> {
+    #[inline(always)]
+    fn len(&self) -> usize {
+        self.0[0].len()
+    }
+    #[inline(always)]
+    fn put(&mut self, i: usize, p: [f32; D]) {
+        for j in 0..D {
+            self.0[j][i] = p[j];
+        }
+    }
+    #[inline(always)]
+    fn put8(&mut self, i: usize, v: [f32x8; D]) {
+        for j in 0..D {
+            self.0[j][i..i + 8].copy_from_slice(&v[j].to_array());
+        }
+    }
+}
+
+/// Drives a block generator: calls `block(b)` for consecutive blocks of 8 points and
+/// writes full blocks with `put8`, the last partial block point by point.
+#[inline(always)]
+pub(crate) fn drive8<const D: usize, S: Sink<D>>(
+    sink: &mut S,
+    mut block: impl FnMut() -> [f32x8; D],
+) {
+    let n = sink.len();
+    let mut i = 0;
+    while i + 8 <= n {
+        sink.put8(i, block());
+        i += 8;
+    }
+    if i < n {
+        let v = block();
+        let a: [[f32; 8]; D] = core::array::from_fn(|j| v[j].to_array());
+        for l in 0..n - i {
+            sink.put(i + l, core::array::from_fn(|j| a[j][l]));
+        }
+    }
+}
+
+impl<const D: usize, G: Generate<D>> Pattern<D> for G {
+    fn len(&self) -> usize {
+        self.n() as usize
+    }
+
+    fn fill_range(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        check_range(self.n(), first, out.len())?;
+        self.gen_simd(seed, first as u64, &mut Aos(out));
+        Ok(())
+    }
+
+    fn fill_range_scalar(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        check_range(self.n(), first, out.len())?;
+        self.gen_scalar(seed, first as u64, &mut Aos(out));
+        Ok(())
+    }
+
+    fn fill_range_soa(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: [&mut [f32]; D],
+    ) -> Result<(), PatternError> {
+        let len = soa_len(&out)?;
+        check_range(self.n(), first, len)?;
+        self.gen_simd(seed, first as u64, &mut Soa(out));
+        Ok(())
+    }
+}
+
+fn soa_len<const D: usize>(out: &[&mut [f32]; D]) -> Result<usize, PatternError> {
+    let len = out.first().map_or(0, |s| s.len());
+    for s in out.iter() {
+        if s.len() != len {
+            return Err(PatternError::OutputLength {
+                expected: len,
+                got: s.len(),
+            });
+        }
+    }
+    Ok(len)
+}
+
+/// A pattern with a random toroidal shift (Cranley–Patterson rotation):
+/// `x_j ↦ (x_j + s_j) mod 1`, with `s ∈ [0,1)^D` uniform and drawn from the seed.
+///
+/// The sum is formed in `f64` and rounded to `f32`, then clamped to
+/// [`ONE_MINUS_EPSILON`], so the result stays in `[0, 1)`.
+#[derive(Clone, Debug)]
+pub struct Shifted<P> {
+    inner: P,
+}
+
+/// Seed purpose of the toroidal shift.
+const SHIFT_PURPOSE: u64 = 0x5348_4946_5400_0000;
+
+impl<P> Shifted<P> {
+    /// The shift vector used for `seed`.
+    #[must_use]
+    pub fn shift<const D: usize>(seed: Seed) -> [f64; D] {
+        core::array::from_fn(|j| unit_f64(seed.stream(SHIFT_PURPOSE + j as u64)))
+    }
+
+    /// The unshifted pattern.
+    pub fn inner(&self) -> &P {
+        &self.inner
+    }
+}
+
+/// `(x + s) mod 1` in `f64`, rounded to `f32` in `[0, 1)`.
+#[inline(always)]
+#[must_use]
+pub fn toroidal_shift(x: f32, s: f64) -> f32 {
+    let mut y = f64::from(x) + s;
+    if y >= 1.0 {
+        y -= 1.0;
+    }
+    (y as f32).min(ONE_MINUS_EPSILON)
+}
+
+impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
+    fn len(&self) -> usize {
+        self.inner.len()
+    }
+
+    fn fill_range(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        self.inner.fill_range(seed, first, out)?;
+        let s = Self::shift::<D>(seed);
+        for p in out.iter_mut() {
+            for j in 0..D {
+                p[j] = toroidal_shift(p[j], s[j]);
+            }
+        }
+        Ok(())
+    }
+
+    fn fill_range_scalar(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        self.inner.fill_range_scalar(seed, first, out)?;
+        let s = Self::shift::<D>(seed);
+        for p in out.iter_mut() {
+            for j in 0..D {
+                p[j] = toroidal_shift(p[j], s[j]);
+            }
+        }
+        Ok(())
+    }
+
+    fn fill_range_soa(
+        &self,
+        seed: Seed,
+        first: usize,
+        mut out: [&mut [f32]; D],
+    ) -> Result<(), PatternError> {
+        let s = Self::shift::<D>(seed);
+        {
+            let reb: [&mut [f32]; D] = out.each_mut().map(|x| &mut **x);
+            self.inner.fill_range_soa(seed, first, reb)?;
+        }
+        for j in 0..D {
+            for x in out[j].iter_mut() {
+                *x = toroidal_shift(*x, s[j]);
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Top 24 bits of `bits` as an `f32` in `[0, 1 − 2⁻²⁴]` (exact).
+#[inline(always)]
+#[must_use]
+pub(crate) fn unit_f32(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// Lane-wise [`unit_f32`].
+#[inline(always)]
+pub(crate) fn unit_f32x8(bits: wide::u32x8) -> f32x8 {
+    let i: wide::i32x8 = bytemuck::cast(bits >> 8);
+    f32x8::from_i32x8(i) * f32x8::splat(1.0 / 16_777_216.0)
+}
+
+/// Top 53 bits of `bits` as an `f64` in `[0, 1)`.
+#[inline(always)]
+#[must_use]
+pub(crate) fn unit_f64(bits: u64) -> f64 {
+    (bits >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
+}
+
+/// `x = (cell + u)/m` rounded to an `f32` that lies in the stratum
+/// `[cell/m, (cell+1)/m)` exactly, with `u = ⌊bits/2⌋·2⁻³¹ ∈ [0, 1)`.
+///
+/// The value is formed in `f64` (error below 2⁻⁵⁰), rounded to the nearest `f32`,
+/// and moved by one ulp if the rounding crossed a stratum boundary; the test
+/// `v·m` is exact in `f64` (48-bit product). Requires `cell < m ≤ 2²⁴`: wider
+/// grids have strata narrower than an `f32` ulp near 1.
+#[inline(always)]
+#[must_use]
+pub(crate) fn stratum_f32(cell: u32, bits: u32, m: f64, inv_m: f64) -> f32 {
+    let u = f64::from(bits >> 1) * (1.0 / 2_147_483_648.0);
+    let x = (f64::from(cell) + u) * inv_m;
+    let mut v = x as f32;
+    let t = f64::from(v) * m;
+    if t >= f64::from(cell) + 1.0 {
+        v = f32::from_bits(v.to_bits() - 1);
+    } else if t < f64::from(cell) {
+        v = f32::from_bits(v.to_bits() + 1);
+    }
+    v
+}
+
+/// Lane-wise [`stratum_f32`].
+#[inline(always)]
+pub(crate) fn stratum_f32x8(cell: wide::u32x8, bits: wide::u32x8, m: f64, inv_m: f64) -> f32x8 {
+    let c = cell.to_array();
+    let b = bits.to_array();
+    f32x8::new(core::array::from_fn(|l| stratum_f32(c[l], b[l], m, inv_m)))
+}
+
+/// Largest per-axis stratum count [`stratum_f32`] handles exactly.
+pub(crate) const MAX_STRATA: u64 = 1 << 24;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn stratum_membership_at_the_edges() {
+        for m in [
+            1u32,
+            2,
+            3,
+            7,
+            10,
+            1000,
+            65_536,
+            99_991,
+            1 << 24,
+            (1 << 24) - 3,
+        ] {
+            let (mf, inv) = (f64::from(m), 1.0 / f64::from(m));
+            for cell in [0, 1, m / 2, m.saturating_sub(2), m - 1] {
+                if cell >= m {
+                    continue;
+                }
+                for bits in [
+                    0u32,
+                    1,
+                    2,
+                    0x7FFF_FFFF,
+                    0xFFFF_FFFE,
+                    0xFFFF_FFFF,
+                    0x8000_0000,
+                ] {
+                    let v = stratum_f32(cell, bits, mf, inv);
+                    let t = f64::from(v) * mf;
+                    assert!(v < 1.0 && v >= 0.0);
+                    assert!(
+                        t >= f64::from(cell) && t < f64::from(cell) + 1.0,
+                        "m {m} cell {cell} bits {bits:#x}: {v}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn unit_conversions_stay_below_one() {
+        assert_eq!(unit_f32(u32::MAX), ONE_MINUS_EPSILON);
+        assert!(unit_f64(u64::MAX) < 1.0);
+        assert!(toroidal_shift(ONE_MINUS_EPSILON, 1.0 - 1e-17) < 1.0);
+        assert!(toroidal_shift(ONE_MINUS_EPSILON, 0.0) < 1.0);
+        assert!(toroidal_shift(0.5, 0.5 - 1e-12) < 1.0);
+    }
+}

@@ -1,0 +1,7 @@
+//! mj
+/// tmp
+#[derive(Debug, Clone)]
+pub struct MultiJittered;
+/// tmp
+#[derive(Debug, Clone)]
+pub struct CorrelatedMultiJittered;

@@ -1,0 +1,4 @@
+//! N-rooks
+/// tmp
+#[derive(Debug)]
+pub struct NRooks;

@@ -1,0 +1,58 @@
+//! Uniform random points.
+
+use super::sealed::{Generate, Sink};
+use super::{check_dims, drive8, unit_f32, unit_f32x8};
+use crate::error::PatternError;
+use crate::rng::{Pcg32x8, Seed};
+
+/// `N` independent uniform points in `[0,1)^D` (white noise).
+///
+/// Coordinate `j` of point `k` is `⌊o_t / 2⁸⌋·2⁻²⁴` where `o_t` is output
+/// `t = k·D + j` of the [`Pcg32`](crate::rng::Pcg32) stream `seed.pcg(RANDOM)`. The
+/// SIMD path reads the same outputs through [`Pcg32x8`] lanes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Random<const D: usize> {
+    n: u64,
+}
+
+/// Seed purpose of [`Random`].
+const PURPOSE: u64 = 0x5241_4E44;
+
+impl<const D: usize> Random<D> {
+    /// `n` uniform points.
+    ///
+    /// # Errors
+    /// [`PatternError::ZeroPoints`] for `n = 0`, [`PatternError::Dims`] unless
+    /// `1 ≤ D ≤ 3`.
+    pub fn new(n: usize) -> Result<Self, PatternError> {
+        check_dims::<D>(1, 3)?;
+        if n == 0 {
+            return Err(PatternError::ZeroPoints);
+        }
+        Ok(Self { n: n as u64 })
+    }
+}
+
+impl<const D: usize> Generate<D> for Random<D> {
+    fn n(&self) -> u64 {
+        self.n
+    }
+
+    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let base = seed.pcg(PURPOSE);
+        let d = D as u64;
+        let mut lanes: [Pcg32x8; D] =
+            core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
+        drive8(sink, || {
+            core::array::from_fn(|j| unit_f32x8(lanes[j].next()))
+        });
+    }
+
+    fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
+        for i in 0..sink.len() {
+            let p = core::array::from_fn(|_| unit_f32(g.next_u32()));
+            sink.put(i, p);
+        }
+    }
+}

@@ -1,0 +1,385 @@
+//! Random numbers: the PCG32 generator, its SIMD lanes, seeds and hashing.
+//!
+//! # PCG32
+//!
+//! [`Pcg32`] is PCG-XSH-RR 64/32 (O'Neill 2014[^1]): a 64-bit linear congruential
+//! generator `s ← a·s + c (mod 2⁶⁴)` with `a = 6364136223846793005` and an odd
+//! stream increment `c`, and the output permutation
+//! `out(s) = rotr32(((s ⊕ (s ≫ 18)) ≫ 27) mod 2³², s ≫ 59)`.
+//! It implements the `rand_core` 0.10 traits ([`rand_core::TryRng`] with
+//! `Error = Infallible`, hence [`rand_core::Rng`], and [`rand_core::SeedableRng`]).
+//!
+//! # Lanes
+//!
+//! An LCG can jump `n` steps in `O(log n)` (Brown 1994[^2]): `s_{t+n} = A_n·s_t + C_n`
+//! with `A_n = aⁿ` and `C_n = c·(aⁿ−1)/(a−1)`, both computed by square-and-multiply
+//! without division. [`Pcg32x8`] keeps eight states `s_{t}, s_{t+δ}, …, s_{t+7δ}` in
+//! SIMD lanes and steps all of them by `8δ` at once, so lane `l` of block `b` holds
+//! exactly output number `t + (8b + l)·δ` of the scalar generator. The values a
+//! pattern gets therefore do not depend on the SIMD width, on the batch it was
+//! generated in, or on whether the scalar or the SIMD path ran.
+//!
+//! [^1]: M. E. O'Neill, *PCG: A Family of Simple Fast Space-Efficient Statistically
+//!   Good Algorithms for Random Number Generation*, HMC-CS-2014-0905 (2014).
+//! [^2]: F. B. Brown, *Random Number Generation with Arbitrary Strides*,
+//!   Trans. Am. Nucl. Soc. 71 (1994).
+
+use core::convert::Infallible;
+use wide::u32x8;
+
+use crate::error::SeedError;
+
+/// The PCG32 LCG multiplier `a`.
+pub const PCG_MULT: u64 = 6_364_136_223_846_793_005;
+
+/// PCG-XSH-RR 64/32 output permutation of a state.
+#[inline(always)]
+#[must_use]
+pub const fn pcg_output(state: u64) -> u32 {
+    let xorshifted = (((state >> 18) ^ state) >> 27) as u32;
+    let rot = (state >> 59) as u32;
+    xorshifted.rotate_right(rot)
+}
+
+/// The affine map `(A_n, C_n)` that advances an LCG with multiplier
+/// [`PCG_MULT`] and increment `inc` by `n` steps: `s_{t+n} = A_n·s_t + C_n (mod 2⁶⁴)`.
+///
+/// Square-and-multiply over the affine maps (Brown 1994), `O(log n)`.
+#[inline]
+#[must_use]
+pub const fn lcg_jump(mut n: u64, inc: u64) -> (u64, u64) {
+    let (mut acc_mult, mut acc_plus) = (1u64, 0u64);
+    let (mut cur_mult, mut cur_plus) = (PCG_MULT, inc);
+    while n > 0 {
+        if n & 1 == 1 {
+            acc_mult = acc_mult.wrapping_mul(cur_mult);
+            acc_plus = acc_plus.wrapping_mul(cur_mult).wrapping_add(cur_plus);
+        }
+        cur_plus = cur_mult.wrapping_add(1).wrapping_mul(cur_plus);
+        cur_mult = cur_mult.wrapping_mul(cur_mult);
+        n >>= 1;
+    }
+    (acc_mult, acc_plus)
+}
+
+/// PCG-XSH-RR 64/32 generator (O'Neill 2014), with jump-ahead.
+///
+/// Not `Copy` on purpose (an accidental copy repeats values), and no `Default`:
+/// construct it with [`Pcg32::new`] or [`rand_core::SeedableRng`].
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Pcg32 {
+    state: u64,
+    inc: u64,
+}
+
+impl Pcg32 {
+    /// Generator with initial state `init_state` on stream `stream`
+    /// (`2⁶³` distinct streams; the increment is `2·stream + 1`).
+    ///
+    /// Seeding follows the PCG reference: `s = 0`, step, `s += init_state`, step.
+    #[must_use]
+    pub const fn new(init_state: u64, stream: u64) -> Self {
+        let inc = (stream << 1) | 1;
+        let mut s = inc; // 0·a + inc
+        s = s.wrapping_add(init_state);
+        s = s.wrapping_mul(PCG_MULT).wrapping_add(inc);
+        Self { state: s, inc }
+    }
+
+    /// The current LCG state (the state the next output is computed from).
+    #[inline]
+    #[must_use]
+    pub const fn state(&self) -> u64 {
+        self.state
+    }
+
+    /// The odd LCG increment of this stream.
+    #[inline]
+    #[must_use]
+    pub const fn increment(&self) -> u64 {
+        self.inc
+    }
+
+    /// Next 32-bit output.
+    #[inline]
+    pub fn next_u32(&mut self) -> u32 {
+        let old = self.state;
+        self.state = old.wrapping_mul(PCG_MULT).wrapping_add(self.inc);
+        pcg_output(old)
+    }
+
+    /// Skips `delta` outputs in `O(log delta)`.
+    #[inline]
+    pub fn advance(&mut self, delta: u64) {
+        let (m, p) = lcg_jump(delta, self.inc);
+        self.state = m.wrapping_mul(self.state).wrapping_add(p);
+    }
+
+    /// The generator `delta` outputs ahead of this one.
+    #[inline]
+    #[must_use]
+    pub fn advanced(&self, delta: u64) -> Self {
+        let mut g = self.clone();
+        g.advance(delta);
+        g
+    }
+}
+
+impl rand_core::TryRng for Pcg32 {
+    type Error = Infallible;
+
+    #[inline]
+    fn try_next_u32(&mut self) -> Result<u32, Infallible> {
+        Ok(Pcg32::next_u32(self))
+    }
+
+    #[inline]
+    fn try_next_u64(&mut self) -> Result<u64, Infallible> {
+        let lo = u64::from(Pcg32::next_u32(self));
+        let hi = u64::from(Pcg32::next_u32(self));
+        Ok(lo | (hi << 32))
+    }
+
+    #[inline]
+    fn try_fill_bytes(&mut self, dst: &mut [u8]) -> Result<(), Infallible> {
+        rand_core::utils::fill_bytes_via_next_word(dst, || {
+            Ok::<u32, Infallible>(Pcg32::next_u32(self))
+        })
+    }
+}
+
+impl rand_core::SeedableRng for Pcg32 {
+    /// 16 little-endian bytes: the initial state, then the stream.
+    type Seed = [u8; 16];
+
+    fn from_seed(seed: [u8; 16]) -> Self {
+        let mut a = [0u8; 8];
+        let mut b = [0u8; 8];
+        a.copy_from_slice(&seed[..8]);
+        b.copy_from_slice(&seed[8..]);
+        Pcg32::new(u64::from_le_bytes(a), u64::from_le_bytes(b))
+    }
+}
+
+/// Eight PCG32 states in SIMD lanes, each stepping `8·stride` outputs per call.
+///
+/// Lane `l` of the `b`-th call to [`Pcg32x8::next`] returns output number
+/// `first + (8b + l)·stride` of the scalar [`Pcg32`] it was built from.
+/// States are kept as split 32-bit halves so that the 64-bit multiply needs only
+/// 32-bit lane multiplies (no 64-bit lane multiply exists on AVX2).
+#[derive(Clone, Debug)]
+pub struct Pcg32x8 {
+    lo: u32x8,
+    hi: u32x8,
+    m_lo: u32x8,
+    m_hi: u32x8,
+    p_lo: u32x8,
+    p_hi: u32x8,
+}
+
+impl Pcg32x8 {
+    /// Lanes reading outputs `first, first + stride, …` of `base`.
+    #[must_use]
+    pub fn new(base: &Pcg32, first: u64, stride: u64) -> Self {
+        let start = base.advanced(first);
+        let (sm, sp) = lcg_jump(stride, base.inc);
+        let mut lo = [0u32; 8];
+        let mut hi = [0u32; 8];
+        let mut s = start.state;
+        for l in 0..8 {
+            lo[l] = s as u32;
+            hi[l] = (s >> 32) as u32;
+            s = sm.wrapping_mul(s).wrapping_add(sp);
+        }
+        let (m, p) = lcg_jump(stride.wrapping_mul(8), base.inc);
+        Self {
+            lo: u32x8::new(lo),
+            hi: u32x8::new(hi),
+            m_lo: u32x8::splat(m as u32),
+            m_hi: u32x8::splat((m >> 32) as u32),
+            p_lo: u32x8::splat(p as u32),
+            p_hi: u32x8::splat((p >> 32) as u32),
+        }
+    }
+
+    /// Eight outputs (one per lane), then every lane steps `8·stride` outputs.
+    #[inline(always)]
+    pub fn next(&mut self) -> u32x8 {
+        let (lo, hi) = (self.lo, self.hi);
+        // out(s): t = s ^ (s >> 18); x = (t >> 27) mod 2^32; rot = s >> 59.
+        let t_lo = lo ^ ((lo >> 18) | (hi << 14));
+        let t_hi = hi ^ (hi >> 18);
+        let x = (t_lo >> 27) | (t_hi << 5);
+        let rot = hi >> 27;
+        let neg = (u32x8::ZERO - rot) & u32x8::splat(31);
+        let out = (x >> rot) | (x << neg);
+        // s <- m*s + p (mod 2^64) from 32-bit halves.
+        let prod_lo = lo * self.m_lo;
+        let prod_hi = lo.mul_keep_high(self.m_lo) + lo * self.m_hi + hi * self.m_lo;
+        let new_lo = prod_lo + self.p_lo;
+        let carry = new_lo.simd_lt(self.p_lo); // all ones where the low half wrapped
+        self.lo = new_lo;
+        self.hi = prod_hi + self.p_hi - carry;
+        out
+    }
+}
+
+/// A 64-bit seed. A seed plus a realisation index fully determines a run.
+///
+/// Every random choice a pattern makes is a pure function of the seed (through
+/// [`Seed::stream`]), never of thread count, SIMD width or batch size.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Seed(pub u64);
+
+impl Seed {
+    /// Seed from an integer.
+    #[inline]
+    #[must_use]
+    pub const fn new(value: u64) -> Self {
+        Seed(value)
+    }
+
+    /// Seed drawn from any `rand_core` 0.10 generator; a failing source is an error.
+    ///
+    /// # Errors
+    /// [`SeedError::Source`] if the generator reports an error.
+    pub fn try_from_rng<R: rand_core::TryRng + ?Sized>(rng: &mut R) -> Result<Self, SeedError> {
+        rng.try_next_u64().map(Seed).map_err(|_| SeedError::Source)
+    }
+
+    /// The seed of realisation `r` of a run seeded with `self`
+    /// (`mix64(seed ⊕ mix64(r + φ))`, a bijection in `seed` for each `r`).
+    #[inline]
+    #[must_use]
+    pub const fn realization(self, r: u64) -> Seed {
+        Seed(mix64(
+            self.0 ^ mix64(r.wrapping_add(GOLDEN_64).wrapping_mul(3)),
+        ))
+    }
+
+    /// An independent 64-bit key for one purpose (a stream, a dimension, a shift).
+    #[inline]
+    #[must_use]
+    pub const fn stream(self, purpose: u64) -> u64 {
+        mix64(
+            self.0
+                ^ mix64(
+                    purpose
+                        .wrapping_mul(GOLDEN_64)
+                        .wrapping_add(0x632B_E59B_D9B4_E019),
+                ),
+        )
+    }
+
+    /// A [`Pcg32`] for one purpose, its state and stream both derived from the seed.
+    #[inline]
+    #[must_use]
+    pub const fn pcg(self, purpose: u64) -> Pcg32 {
+        Pcg32::new(
+            self.stream(purpose),
+            self.stream(purpose ^ 0x8000_0000_0000_0000),
+        )
+    }
+}
+
+/// `⌊2⁶⁴/φ⌋`, the Weyl increment.
+pub(crate) const GOLDEN_64: u64 = 0x9E37_79B9_7F4A_7C15;
+
+/// 64-bit finaliser (MurmurHash3 `fmix64`, Appleby 2011): a bijection on `u64`
+/// with full avalanche.
+#[inline]
+#[must_use]
+pub const fn mix64(mut x: u64) -> u64 {
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    x ^= x >> 33;
+    x = x.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    x ^= x >> 33;
+    x
+}
+
+/// 32-bit finaliser (MurmurHash3 `fmix32`, Appleby 2011): a bijection on `u32`.
+#[inline]
+#[must_use]
+pub const fn mix32(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x85EB_CA6B);
+    x ^= x >> 13;
+    x = x.wrapping_mul(0xC2B2_AE35);
+    x ^= x >> 16;
+    x
+}
+
+/// Lane-wise [`mix32`].
+#[inline(always)]
+#[must_use]
+pub fn mix32x8(mut x: u32x8) -> u32x8 {
+    x ^= x >> 16;
+    x *= u32x8::splat(0x85EB_CA6B);
+    x ^= x >> 13;
+    x *= u32x8::splat(0xC2B2_AE35);
+    x ^= x >> 16;
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pcg32_reference_vector() {
+        // pcg32_srandom_r(42, 54) from the PCG reference implementation's demo
+        // prints 0xa15c02b7 0x7b47f409 0xba1d3330 0x83d2f293 0xbfa4784b 0xcbed606e.
+        let mut g = Pcg32::new(42, 54);
+        let want = [
+            0xa15c02b7u32,
+            0x7b47f409,
+            0xba1d3330,
+            0x83d2f293,
+            0xbfa4784b,
+            0xcbed606e,
+        ];
+        for w in want {
+            assert_eq!(g.next_u32(), w);
+        }
+    }
+
+    #[test]
+    fn advance_matches_stepping() {
+        let g = Pcg32::new(7, 11);
+        let mut a = g.clone();
+        for _ in 0..1000 {
+            a.next_u32();
+        }
+        assert_eq!(a, g.advanced(1000));
+        // a full period returns to the start
+        assert_eq!(g.advanced(0).state(), g.state());
+        let mut b = g.clone();
+        b.advance(u64::MAX);
+        b.advance(1);
+        assert_eq!(b, g);
+    }
+
+    #[test]
+    fn lanes_match_scalar() {
+        let g = Pcg32::new(123, 456);
+        for &(first, stride) in &[(0u64, 1u64), (5, 1), (3, 2), (1000, 3), (u64::MAX - 20, 7)] {
+            let mut lanes = Pcg32x8::new(&g, first, stride);
+            let mut s = g.advanced(first);
+            let mut scalar = [0u32; 64 * 7];
+            for v in scalar.iter_mut() {
+                *v = s.next_u32();
+            }
+            for b in 0..8 {
+                let out = lanes.next().to_array();
+                for (l, &v) in out.iter().enumerate() {
+                    let t = ((8 * b + l) as u64 * stride) as usize;
+                    assert_eq!(
+                        v, scalar[t],
+                        "first {first} stride {stride} block {b} lane {l}"
+                    );
+                }
+            }
+        }
+    }
+}
