@@ -1,7 +1,7 @@
 //! Jittered (stratified) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
+use super::{advance8, lanes_of, check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
 use wide::u32x8;
@@ -117,31 +117,11 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         let inv: [f64; D] = m.map(|m| 1.0 / m);
         let vm: [u32x8; D] = self.strata.map(u32x8::splat);
         // Per-lane cell counters for points first + l, advanced by 8 per block.
-        let mut cell: [u32x8; D] = {
-            let cells: [[u32; D]; 8] = core::array::from_fn(|l| self.cell_of(first + l as u64));
-            core::array::from_fn(|j| u32x8::new(core::array::from_fn(|l| cells[l][j])))
-        };
+        let mut cell: [u32x8; D] = lanes_of(|l| self.cell_of(first + l as u64));
         drive8(sink, || {
             let out =
                 core::array::from_fn(|j| stratum_f32x8(cell[j], lanes[j].next(), m[j], inv[j]));
-            // Add 8 to the mixed-radix counter: carry through the axes.
-            let mut carry = u32x8::splat(8);
-            for j in 0..D {
-                let mut c = cell[j] + carry;
-                carry = u32x8::ZERO;
-                loop {
-                    let over = c.simd_ge(vm[j]);
-                    if !over.any() {
-                        break;
-                    }
-                    c -= over & vm[j];
-                    carry -= over; // +1 where a wrap happened
-                }
-                cell[j] = c;
-                if !carry.any() {
-                    break;
-                }
-            }
+            advance8(&mut cell, &vm);
             out
         });
     }

@@ -31,7 +31,7 @@
 
 mod halton;
 mod jittered;
-mod multijitter;
+pub mod multijitter;
 mod nrooks;
 mod random;
 mod sobol;
@@ -441,6 +441,36 @@ pub(crate) fn stratum_f32x8(cell: wide::u32x8, bits: wide::u32x8, m: f64, inv_m:
     let c = cell.to_array();
     let b = bits.to_array();
     f32x8::new(core::array::from_fn(|l| stratum_f32(c[l], b[l], m, inv_m)))
+}
+
+/// Adds 8 to per-lane mixed-radix counters `cell` (digit `j` in `[0, m_j)`, digit 0
+/// fastest), carrying between digits; the top digit wraps.
+#[inline(always)]
+pub(crate) fn advance8<const D: usize>(cell: &mut [wide::u32x8; D], m: &[wide::u32x8; D]) {
+    let mut carry = wide::u32x8::splat(8);
+    for j in 0..D {
+        let mut c = cell[j] + carry;
+        carry = wide::u32x8::ZERO;
+        loop {
+            let over = c.simd_ge(m[j]);
+            if !over.any() {
+                break;
+            }
+            c -= over & m[j];
+            carry -= over; // `over` is all ones (−1) where a digit wrapped
+        }
+        cell[j] = c;
+        if !carry.simd_ne(wide::u32x8::ZERO).any() {
+            break;
+        }
+    }
+}
+
+/// Transposes 8 per-point arrays into `D` lane vectors.
+#[inline(always)]
+pub(crate) fn lanes_of<const D: usize>(f: impl Fn(usize) -> [u32; D]) -> [wide::u32x8; D] {
+    let pts: [[u32; D]; 8] = core::array::from_fn(f);
+    core::array::from_fn(|j| wide::u32x8::new(core::array::from_fn(|l| pts[l][j])))
 }
 
 /// Largest per-axis stratum count [`stratum_f32`] handles exactly.

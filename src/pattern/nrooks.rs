@@ -1,4 +1,91 @@
-//! N-rooks
-/// tmp
-#[derive(Debug)]
-pub struct NRooks;
+//! N-rooks (Latin hypercube) sampling.
+
+use super::sealed::{Generate, Sink};
+use super::{check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
+use crate::error::PatternError;
+use crate::hash::{permute, permute_x8};
+use crate::rng::{Pcg32x8, Seed};
+use wide::u32x8;
+
+/// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
+/// every axis is cut into `N` strata and each stratum of each axis holds exactly one
+/// point, `x_j(k) = (π_j(k) + u_j)/N` with independent random permutations `π_j`.
+///
+/// The permutations are hash-based bijections with random access
+/// ([`crate::hash::permute`]), so any range of points is computed without
+/// building a permutation table. `N ≤ 2²⁴`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct NRooks<const D: usize> {
+    n: u32,
+}
+
+const PURPOSE: u64 = 0x524F_4F4B;
+
+impl<const D: usize> NRooks<D> {
+    /// `n` points.
+    ///
+    /// # Errors
+    /// [`PatternError::ZeroPoints`], [`PatternError::Dims`] unless `1 ≤ D ≤ 3`,
+    /// [`PatternError::TooManyPoints`] for `n > 2²⁴`.
+    pub fn new(n: usize) -> Result<Self, PatternError> {
+        check_dims::<D>(1, 3)?;
+        if n == 0 {
+            return Err(PatternError::ZeroPoints);
+        }
+        if n as u64 > MAX_STRATA {
+            return Err(PatternError::TooManyPoints { max: MAX_STRATA });
+        }
+        Ok(Self { n: n as u32 })
+    }
+
+    fn keys(seed: Seed) -> [u32; D] {
+        core::array::from_fn(|j| seed.stream(PURPOSE + 1 + j as u64) as u32)
+    }
+}
+
+impl<const D: usize> Generate<D> for NRooks<D> {
+    fn n(&self) -> u64 {
+        u64::from(self.n)
+    }
+
+    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let base = seed.pcg(PURPOSE);
+        let d = D as u64;
+        let mut lanes: [Pcg32x8; D] =
+            core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
+        let keys = Self::keys(seed).map(u32x8::splat);
+        let (m, inv) = (f64::from(self.n), 1.0 / f64::from(self.n));
+        let n = self.n;
+        // Lanes past the end (last partial block) are wrapped into [0, n) and discarded.
+        let mut k = u32x8::new(core::array::from_fn(|l| ((first + l as u64) % u64::from(n)) as u32));
+        let vn = u32x8::splat(n);
+        drive8(sink, || {
+            let out = core::array::from_fn(|j| {
+                stratum_f32x8(permute_x8(k, n, keys[j]), lanes[j].next(), m, inv)
+            });
+            let mut next = k + u32x8::splat(8);
+            loop {
+                let over = next.simd_ge(vn);
+                if !over.any() {
+                    break;
+                }
+                next -= over & vn;
+            }
+            k = next;
+            out
+        });
+    }
+
+    fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
+        let keys = Self::keys(seed);
+        let m = f64::from(self.n);
+        for i in 0..sink.len() {
+            let k = (first + i as u64) as u32;
+            let p = core::array::from_fn(|j| {
+                stratum_f32(permute(k, self.n, keys[j]), g.next_u32(), m, 1.0 / m)
+            });
+            sink.put(i, p);
+        }
+    }
+}
