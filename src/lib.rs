@@ -71,3 +71,8 @@ pub mod rng;
 
 pub use error::{PatternError, SeedError};
 pub use rng::{Pcg32, Seed};
+
+/// The README's code examples, compiled and run as doc tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;

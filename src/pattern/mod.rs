@@ -194,10 +194,10 @@ impl<const D: usize> Sink<D> for Aos<'_, D> {
     }
     #[inline(always)]
     fn put8(&mut self, i: usize, v: [f32x8; D]) {
-        let a: [[f32; 8]; D] = core::array::from_fn(|j| v[j].to_array());
+        let a: [[f32; 8]; D] = build([0.0; 8], |j| v[j].to_array());
         let dst = &mut self.0[i..i + 8];
         for (l, p) in dst.iter_mut().enumerate() {
-            *p = core::array::from_fn(|j| a[j][l]);
+            *p = build(0.0, |j| a[j][l]);
         }
     }
 }
@@ -238,9 +238,9 @@ pub(crate) fn drive8<const D: usize, S: Sink<D>>(
     }
     if i < n {
         let v = block();
-        let a: [[f32; 8]; D] = core::array::from_fn(|j| v[j].to_array());
+        let a: [[f32; 8]; D] = build([0.0; 8], |j| v[j].to_array());
         for l in 0..n - i {
-            sink.put(i + l, core::array::from_fn(|j| a[j][l]));
+            sink.put(i + l, build(0.0, |j| a[j][l]));
         }
     }
 }
@@ -425,12 +425,40 @@ pub(crate) fn unit_f64(bits: u64) -> f64 {
 pub(crate) fn stratum_f32(cell: u32, bits: u32, m: f64, inv_m: f64) -> f32 {
     let u = f64::from(bits >> 1) * (1.0 / 2_147_483_648.0);
     let x = (f64::from(cell) + u) * inv_m;
-    let mut v = x as f32;
+    into_stratum(x as f32, cell, m)
+}
+
+/// Moves `v` by one ulp back into `[cell/m, (cell+1)/m)` if rounding left it.
+#[inline(always)]
+fn into_stratum(v: f32, cell: u32, m: f64) -> f32 {
     let t = f64::from(v) * m;
-    if t >= f64::from(cell) + 1.0 {
-        v = f32::from_bits(v.to_bits() - 1);
-    } else if t < f64::from(cell) {
-        v = f32::from_bits(v.to_bits() + 1);
+    let c = f64::from(cell);
+    if t >= c + 1.0 {
+        f32::from_bits(v.to_bits() - 1)
+    } else if t < c {
+        f32::from_bits(v.to_bits() + 1)
+    } else {
+        v
+    }
+}
+
+/// Four lanes of [`stratum_f32`] in `f64x4`, bit-identical to the scalar function:
+/// the same correctly rounded operations in the same order, and the rare edge
+/// correction done by the same scalar code.
+#[inline(always)]
+fn stratum_f32x4(cell: wide::i32x4, half_bits: wide::i32x4, m: f64, inv_m: f64) -> [f32; 4] {
+    use wide::f64x4;
+    let c = f64x4::from_i32x4(cell);
+    let u = f64x4::from_i32x4(half_bits) * f64x4::splat(1.0 / 2_147_483_648.0);
+    let x = ((c + u) * f64x4::splat(inv_m)).to_array();
+    let mut v = x.map(|x| x as f32);
+    let t = f64x4::new(v.map(f64::from)) * f64x4::splat(m);
+    let bad = t.simd_ge(c + f64x4::ONE) | t.simd_lt(c);
+    if bad.any() {
+        let ca = cell.to_array();
+        for l in 0..4 {
+            v[l] = into_stratum(v[l], ca[l] as u32, m);
+        }
     }
     v
 }
@@ -438,9 +466,11 @@ pub(crate) fn stratum_f32(cell: u32, bits: u32, m: f64, inv_m: f64) -> f32 {
 /// Lane-wise [`stratum_f32`].
 #[inline(always)]
 pub(crate) fn stratum_f32x8(cell: wide::u32x8, bits: wide::u32x8, m: f64, inv_m: f64) -> f32x8 {
-    let c = cell.to_array();
-    let b = bits.to_array();
-    f32x8::new(core::array::from_fn(|l| stratum_f32(c[l], b[l], m, inv_m)))
+    let c: [wide::i32x4; 2] = bytemuck::cast(cell);
+    let b: [wide::i32x4; 2] = bytemuck::cast(bits >> 1);
+    let lo = stratum_f32x4(c[0], b[0], m, inv_m);
+    let hi = stratum_f32x4(c[1], b[1], m, inv_m);
+    f32x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
 }
 
 /// Adds 8 to per-lane mixed-radix counters `cell` (digit `j` in `[0, m_j)`, digit 0
@@ -464,6 +494,17 @@ pub(crate) fn advance8<const D: usize>(cell: &mut [wide::u32x8; D], m: &[wide::u
             break;
         }
     }
+}
+
+/// `[f(0), …, f(D−1)]`, always inlined (unlike `core::array::from_fn`, whose
+/// closure call is not always inlined in hot loops).
+#[inline(always)]
+pub(crate) fn build<T: Copy, const D: usize>(init: T, mut f: impl FnMut(usize) -> T) -> [T; D] {
+    let mut a = [init; D];
+    for (j, x) in a.iter_mut().enumerate() {
+        *x = f(j);
+    }
+    a
 }
 
 /// Transposes 8 per-point arrays into `D` lane vectors.

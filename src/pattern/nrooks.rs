@@ -1,11 +1,11 @@
 //! N-rooks (Latin hypercube) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
+use super::{build, check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, permute_x8};
 use crate::rng::{Pcg32x8, Seed};
-use wide::u32x8;
+use wide::{f32x8, u32x8};
 
 /// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
 /// every axis is cut into `N` strata and each stratum of each axis holds exactly one
@@ -60,7 +60,7 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         let mut k = u32x8::new(core::array::from_fn(|l| ((first + l as u64) % u64::from(n)) as u32));
         let vn = u32x8::splat(n);
         drive8(sink, || {
-            let out = core::array::from_fn(|j| {
+            let out = build(f32x8::ZERO, |j| {
                 stratum_f32x8(permute_x8(k, n, keys[j]), lanes[j].next(), m, inv)
             });
             let mut next = k + u32x8::splat(8);
@@ -82,7 +82,7 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         let m = f64::from(self.n);
         for i in 0..sink.len() {
             let k = (first + i as u64) as u32;
-            let p = core::array::from_fn(|j| {
+            let p = build(0.0, |j| {
                 stratum_f32(permute(k, self.n, keys[j]), g.next_u32(), m, 1.0 / m)
             });
             sink.put(i, p);

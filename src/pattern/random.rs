@@ -1,9 +1,10 @@
 //! Uniform random points.
 
 use super::sealed::{Generate, Sink};
-use super::{check_dims, drive8, unit_f32, unit_f32x8};
+use super::{build, check_dims, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
+use wide::f32x8;
 
 /// `N` independent uniform points in `[0,1)^D` (white noise).
 ///
@@ -44,14 +45,14 @@ impl<const D: usize> Generate<D> for Random<D> {
         let mut lanes: [Pcg32x8; D] =
             core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
         drive8(sink, || {
-            core::array::from_fn(|j| unit_f32x8(lanes[j].next()))
+            build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next()))
         });
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
         for i in 0..sink.len() {
-            let p = core::array::from_fn(|_| unit_f32(g.next_u32()));
+            let p = build(0.0, |_| unit_f32(g.next_u32()));
             sink.put(i, p);
         }
     }
