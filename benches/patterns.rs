@@ -17,7 +17,10 @@ use std::time::Duration;
 
 const SIZES: [usize; 2] = [4096, 65536];
 
-fn samplers2(n: usize) -> Vec<(&'static str, Box<dyn Pattern<2>>)> {
+/// Named samplers of one dimension for one `N`.
+type Samplers<const D: usize> = Vec<(&'static str, Box<dyn Pattern<D>>)>;
+
+fn samplers2(n: usize) -> Samplers<2> {
     let m = (n as f64).sqrt() as usize;
     vec![
         ("random", Box::new(Random::<2>::new(n).unwrap())),
@@ -30,9 +33,13 @@ fn samplers2(n: usize) -> Vec<(&'static str, Box<dyn Pattern<2>>)> {
     ]
 }
 
-fn samplers3(n: usize) -> Vec<(&'static str, Box<dyn Pattern<3>>)> {
+fn samplers3(n: usize) -> Samplers<3> {
     // 4096 = 16³; 65536 = 64·32·32.
-    let strata = if n == 4096 { [16, 16, 16] } else { [64, 32, 32] };
+    let strata = if n == 4096 {
+        [16, 16, 16]
+    } else {
+        [64, 32, 32]
+    };
     vec![
         ("random", Box::new(Random::<3>::new(n).unwrap())),
         ("jittered", Box::new(Jittered::<3>::new(strata).unwrap())),
@@ -42,7 +49,7 @@ fn samplers3(n: usize) -> Vec<(&'static str, Box<dyn Pattern<3>>)> {
     ]
 }
 
-fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Vec<(&'static str, Box<dyn Pattern<D>>)>) {
+fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Samplers<D>) {
     for n in SIZES {
         let mut g = c.benchmark_group(format!("patterns_{D}d_{n}"));
         g.throughput(Throughput::Elements(n as u64));
@@ -64,7 +71,7 @@ fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Vec<(&'static
                 }
             })
         });
-        if D == 2 || D == 3 {
+        {
             g.bench_function("baseline/sobol_burley_4d", |b| {
                 b.iter(|| {
                     let s = black_box(7u32);

@@ -42,7 +42,7 @@ const fn round(mut x: u32, key: u32, mask: u32, h: u32) -> u32 {
 
 #[inline(always)]
 const fn half_bits(mask: u32) -> u32 {
-    (mask.count_ones() + 1) / 2
+    mask.count_ones().div_ceil(2)
 }
 
 /// Element `i` of the random permutation of `[0, n)` selected by `key`.

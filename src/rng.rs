@@ -163,7 +163,7 @@ impl rand_core::SeedableRng for Pcg32 {
 
 /// Eight PCG32 states in SIMD lanes, each stepping `8·stride` outputs per call.
 ///
-/// Lane `l` of the `b`-th call to [`Pcg32x8::next`] returns output number
+/// Lane `l` of the `b`-th call to [`Pcg32x8::next_u32x8`] returns output number
 /// `first + (8b + l)·stride` of the scalar [`Pcg32`] it was built from.
 /// States are kept as split 32-bit halves so that the 64-bit multiply needs only
 /// 32-bit lane multiplies (no 64-bit lane multiply exists on AVX2).
@@ -204,7 +204,7 @@ impl Pcg32x8 {
 
     /// Eight outputs (one per lane), then every lane steps `8·stride` outputs.
     #[inline(always)]
-    pub fn next(&mut self) -> u32x8 {
+    pub fn next_u32x8(&mut self) -> u32x8 {
         let (lo, hi) = (self.lo, self.hi);
         // out(s): t = s ^ (s >> 18); x = (t >> 27) mod 2^32; rot = s >> 59.
         let t_lo = lo ^ ((lo >> 18) | (hi << 14));
@@ -371,7 +371,7 @@ mod tests {
                 *v = s.next_u32();
             }
             for b in 0..8 {
-                let out = lanes.next().to_array();
+                let out = lanes.next_u32x8().to_array();
                 for (l, &v) in out.iter().enumerate() {
                     let t = ((8 * b + l) as u64 * stride) as usize;
                     assert_eq!(

@@ -15,7 +15,8 @@ fn all<const D: usize>(p: &dyn Pattern<D>, seed: u64) -> Vec<[f32; D]> {
 }
 
 fn in_unit<const D: usize>(pts: &[[f32; D]]) -> bool {
-    pts.iter().all(|p| p.iter().all(|&x| (0.0..1.0).contains(&x)))
+    pts.iter()
+        .all(|p| p.iter().all(|&x| (0.0..1.0).contains(&x)))
 }
 
 /// Cell index `⌊x·m⌋` computed exactly (`x` has 24 bits, `m ≤ 2²⁴`: the `f64`
@@ -44,9 +45,11 @@ fn check_paths<const D: usize>(p: &dyn Pattern<D>, seed: u64, chunk: usize) {
     while first < n {
         let len = c.min(n - first);
         if first % 2 == 0 {
-            p.fill_range(s, first, &mut chunked[first..first + len]).unwrap();
+            p.fill_range(s, first, &mut chunked[first..first + len])
+                .unwrap();
         } else {
-            p.fill_range_scalar(s, first, &mut chunked[first..first + len]).unwrap();
+            p.fill_range_scalar(s, first, &mut chunked[first..first + len])
+                .unwrap();
         }
         first += len;
         c = c * 7 % 17 + 1; // uneven chunk sizes
@@ -209,17 +212,43 @@ fn bad_input_is_an_error_naming_the_parameter() {
     assert_eq!(NRooks::<2>::new(0), Err(PatternError::ZeroPoints));
     assert!(NRooks::<2>::new((1 << 24) + 1).is_err());
     assert_eq!(MultiJittered::new(0), Err(PatternError::ZeroPoints));
-    assert_eq!(CorrelatedMultiJittered::with_grid(0, 4), Err(PatternError::ZeroStrata { axis: 0 }));
-    assert_eq!(CorrelatedMultiJittered::with_grid(4, 0), Err(PatternError::ZeroStrata { axis: 1 }));
-    assert_eq!(Jittered::<2>::new([4, 0]), Err(PatternError::ZeroStrata { axis: 1 }));
+    assert_eq!(
+        CorrelatedMultiJittered::with_grid(0, 4),
+        Err(PatternError::ZeroStrata { axis: 0 })
+    );
+    assert_eq!(
+        CorrelatedMultiJittered::with_grid(4, 0),
+        Err(PatternError::ZeroStrata { axis: 1 })
+    );
+    assert_eq!(
+        Jittered::<2>::new([4, 0]),
+        Err(PatternError::ZeroStrata { axis: 1 })
+    );
     assert_eq!(
         Jittered::<2>::with_n(10, [3, 3]),
         Err(PatternError::StrataMismatch { product: 9, n: 10 })
     );
-    assert_eq!(Jittered::<2>::with_n(0, [3, 3]), Err(PatternError::ZeroPoints));
+    assert_eq!(
+        Jittered::<2>::with_n(0, [3, 3]),
+        Err(PatternError::ZeroPoints)
+    );
     assert!(Jittered::<2>::cube(1000).is_err());
-    assert_eq!(Random::<4>::new(8), Err(PatternError::Dims { dims: 4, min: 1, max: 3 }));
-    assert_eq!(Random::<0>::new(8), Err(PatternError::Dims { dims: 0, min: 1, max: 3 }));
+    assert_eq!(
+        Random::<4>::new(8),
+        Err(PatternError::Dims {
+            dims: 4,
+            min: 1,
+            max: 3
+        })
+    );
+    assert_eq!(
+        Random::<0>::new(8),
+        Err(PatternError::Dims {
+            dims: 0,
+            min: 1,
+            max: 3
+        })
+    );
     assert!(Jittered::<5>::new([1; 5]).is_err());
 
     let msg = |e: PatternError| e.to_string();
@@ -231,7 +260,13 @@ fn bad_input_is_an_error_naming_the_parameter() {
     let p = Random::<2>::new(10).unwrap();
     let mut short = [[0.0f32; 2]; 9];
     let e = p.fill(Seed::new(1), &mut short).unwrap_err();
-    assert_eq!(e, PatternError::OutputLength { expected: 10, got: 9 });
+    assert_eq!(
+        e,
+        PatternError::OutputLength {
+            expected: 10,
+            got: 9
+        }
+    );
     assert!(e.to_string().contains("out"));
     let mut four = [[0.0f32; 2]; 4];
     assert!(p.fill_range(Seed::new(1), 7, &mut four).is_err());
@@ -239,7 +274,11 @@ fn bad_input_is_an_error_naming_the_parameter() {
     assert!(p.fill_range_scalar(Seed::new(1), 7, &mut four).is_err());
     let (mut a, mut b) = (vec![0.0f32; 3], vec![0.0f32; 4]);
     assert!(p.fill_range_soa(Seed::new(1), 0, [&mut a, &mut b]).is_err());
-    assert!(p.clone().shifted().fill_range(Seed::new(1), 8, &mut four).is_err());
+    assert!(p
+        .clone()
+        .shifted()
+        .fill_range(Seed::new(1), 8, &mut four)
+        .is_err());
 }
 
 /// A seed source that always fails.
@@ -293,12 +332,17 @@ fn l2_star_sq<const D: usize>(pts: &[[f32; D]]) -> f64 {
     let d = D as i32;
     let mut s1 = 0.0;
     for p in pts {
-        s1 += p.iter().map(|&x| 1.0 - f64::from(x).powi(2)).product::<f64>();
+        s1 += p
+            .iter()
+            .map(|&x| 1.0 - f64::from(x).powi(2))
+            .product::<f64>();
     }
     let mut s2 = 0.0;
     for p in pts {
         for q in pts {
-            s2 += (0..D).map(|j| 1.0 - f64::from(p[j].max(q[j]))).product::<f64>();
+            s2 += (0..D)
+                .map(|j| 1.0 - f64::from(p[j].max(q[j])))
+                .product::<f64>();
         }
     }
     3f64.powi(-d) - 2f64.powi(1 - d) / n * s1 + s2 / (n * n)
@@ -345,7 +389,10 @@ fn l2_discrepancy_matches_theory() {
         (3, mean_se(R, disc(&Random::<3>::new(64).unwrap()))),
     ] {
         let want = random_t2(d, 64);
-        assert!((m - want).abs() < 4.0 * se, "random {d}D: {m} vs {want} ± {se}");
+        assert!(
+            (m - want).abs() < 4.0 * se,
+            "random {d}D: {m} vs {want} ± {se}"
+        );
     }
     // Jittered: closed form, two-sided.
     let (m, se) = mean_se(R, disc(&Jittered::<1>::new([64]).unwrap()));
@@ -387,19 +434,47 @@ fn coordinate_means_match_theory() {
     let check = |pts: &[[f32; 2]], sigma: [f64; 2], name: &str| {
         for j in 0..2 {
             let m = pts.iter().map(|p| f64::from(p[j])).sum::<f64>() / pts.len() as f64;
-            assert!((m - 0.5).abs() < 4.0 * sigma[j], "{name} axis {j}: mean {m}, σ {}", sigma[j]);
+            assert!(
+                (m - 0.5).abs() < 4.0 * sigma[j],
+                "{name} axis {j}: mean {m}, σ {}",
+                sigma[j]
+            );
         }
     };
     let nf = n as f64;
     let s_rand = (1.0 / (12.0 * nf)).sqrt();
     let s_fine = (1.0 / (12.0 * nf * nf * nf)).sqrt();
     for seed in 0..4 {
-        check(&all(&Random::<2>::new(n).unwrap(), seed), [s_rand; 2], "random");
+        check(
+            &all(&Random::<2>::new(n).unwrap(), seed),
+            [s_rand; 2],
+            "random",
+        );
         let s_j = (1.0 / (12.0 * nf * 64.0 * 64.0)).sqrt();
-        check(&all(&Jittered::<2>::new([64, 64]).unwrap(), seed), [s_j; 2], "jittered");
-        check(&all(&NRooks::<2>::new(n).unwrap(), seed), [s_fine; 2], "n-rooks");
-        check(&all(&MultiJittered::new(n).unwrap(), seed), [s_fine; 2], "mj");
-        check(&all(&CorrelatedMultiJittered::new(n).unwrap(), seed), [s_fine; 2], "cmj");
-        check(&all(&Random::<2>::new(n).unwrap().shifted(), seed), [s_rand; 2], "random+shift");
+        check(
+            &all(&Jittered::<2>::new([64, 64]).unwrap(), seed),
+            [s_j; 2],
+            "jittered",
+        );
+        check(
+            &all(&NRooks::<2>::new(n).unwrap(), seed),
+            [s_fine; 2],
+            "n-rooks",
+        );
+        check(
+            &all(&MultiJittered::new(n).unwrap(), seed),
+            [s_fine; 2],
+            "mj",
+        );
+        check(
+            &all(&CorrelatedMultiJittered::new(n).unwrap(), seed),
+            [s_fine; 2],
+            "cmj",
+        );
+        check(
+            &all(&Random::<2>::new(n).unwrap().shifted(), seed),
+            [s_rand; 2],
+            "random+shift",
+        );
     }
 }

@@ -1,7 +1,9 @@
 //! Jittered (stratified) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, build, lanes_of, check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
+use super::{
+    advance8, build, check_dims, drive8, lanes_of, stratum_f32, stratum_f32x8, MAX_STRATA,
+};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
 use wide::{f32x8, u32x8};
@@ -119,8 +121,9 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         // Per-lane cell counters for points first + l, advanced by 8 per block.
         let mut cell: [u32x8; D] = lanes_of(|l| self.cell_of(first + l as u64));
         drive8(sink, || {
-            let out =
-                build(f32x8::ZERO, |j| stratum_f32x8(cell[j], lanes[j].next(), m[j], inv[j]));
+            let out = build(f32x8::ZERO, |j| {
+                stratum_f32x8(cell[j], lanes[j].next_u32x8(), m[j], inv[j])
+            });
             advance8(&mut cell, &vm);
             out
         });
@@ -131,7 +134,9 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         let m: [f64; D] = self.strata.map(f64::from);
         let mut cell = self.cell_of(first);
         for i in 0..sink.len() {
-            let p = build(0.0, |j| stratum_f32(cell[j], g.next_u32(), m[j], 1.0 / m[j]));
+            let p = build(0.0, |j| {
+                stratum_f32(cell[j], g.next_u32(), m[j], 1.0 / m[j])
+            });
             sink.put(i, p);
             for j in 0..D {
                 cell[j] += 1;

@@ -551,7 +551,7 @@ mod tests {
                 ] {
                     let v = stratum_f32(cell, bits, mf, inv);
                     let t = f64::from(v) * mf;
-                    assert!(v < 1.0 && v >= 0.0);
+                    assert!((0.0..1.0).contains(&v));
                     assert!(
                         t >= f64::from(cell) && t < f64::from(cell) + 1.0,
                         "m {m} cell {cell} bits {bits:#x}: {v}"

@@ -49,7 +49,11 @@ impl Grid {
         if n > MAX_STRATA {
             return Err(PatternError::TooManyPoints { max: MAX_STRATA });
         }
-        Ok(Self { cols: cols as u32, rows: rows as u32, correlated })
+        Ok(Self {
+            cols: cols as u32,
+            rows: rows as u32,
+            correlated,
+        })
     }
 
     /// `cols` = the largest divisor of `n` not above `√n`, `rows = n / cols`.
@@ -67,7 +71,7 @@ impl Grid {
         while (cols + 1) * (cols + 1) <= n {
             cols += 1;
         }
-        while n % cols != 0 {
+        while !n.is_multiple_of(cols) {
             cols -= 1;
         }
         Self::with_grid(cols, n / cols, correlated)
@@ -87,7 +91,8 @@ impl Grid {
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let base = seed.pcg(PURPOSE);
-        let mut lanes: [Pcg32x8; 2] = core::array::from_fn(|j| Pcg32x8::new(&base, first * 2 + j as u64, 2));
+        let mut lanes: [Pcg32x8; 2] =
+            core::array::from_fn(|j| Pcg32x8::new(&base, first * 2 + j as u64, 2));
         let (kx, ky, step) = self.keys(seed);
         let (m, n) = (self.cols, self.rows);
         let total = f64::from(m) * f64::from(n);
@@ -95,7 +100,10 @@ impl Grid {
         let radix = [u32x8::splat(m), u32x8::splat(n)];
         let mut cell = lanes_of(|l| {
             let k = first + l as u64;
-            [(k % u64::from(m)) as u32, ((k / u64::from(m)) % u64::from(n)) as u32]
+            [
+                (k % u64::from(m)) as u32,
+                ((k / u64::from(m)) % u64::from(n)) as u32,
+            ]
         });
         let (vm, vn, vstep) = (u32x8::splat(m), u32x8::splat(n), u32x8::splat(step));
         drive8(sink, || {
@@ -103,8 +111,8 @@ impl Grid {
             let px = permute_x8(j, n, u32x8::splat(kx) + i * vstep);
             let py = permute_x8(i, m, u32x8::splat(ky) + j * vstep);
             let out = [
-                stratum_f32x8(i * vn + px, lanes[0].next(), total, inv),
-                stratum_f32x8(j * vm + py, lanes[1].next(), total, inv),
+                stratum_f32x8(i * vn + px, lanes[0].next_u32x8(), total, inv),
+                stratum_f32x8(j * vm + py, lanes[1].next_u32x8(), total, inv),
             ];
             advance8(&mut cell, &radix);
             out

@@ -57,11 +57,13 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         let (m, inv) = (f64::from(self.n), 1.0 / f64::from(self.n));
         let n = self.n;
         // Lanes past the end (last partial block) are wrapped into [0, n) and discarded.
-        let mut k = u32x8::new(core::array::from_fn(|l| ((first + l as u64) % u64::from(n)) as u32));
+        let mut k = u32x8::new(core::array::from_fn(|l| {
+            ((first + l as u64) % u64::from(n)) as u32
+        }));
         let vn = u32x8::splat(n);
         drive8(sink, || {
             let out = build(f32x8::ZERO, |j| {
-                stratum_f32x8(permute_x8(k, n, keys[j]), lanes[j].next(), m, inv)
+                stratum_f32x8(permute_x8(k, n, keys[j]), lanes[j].next_u32x8(), m, inv)
             });
             let mut next = k + u32x8::splat(8);
             loop {

@@ -45,7 +45,7 @@ impl<const D: usize> Generate<D> for Random<D> {
         let mut lanes: [Pcg32x8; D] =
             core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
         drive8(sink, || {
-            build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next()))
+            build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next_u32x8()))
         });
     }
 
