@@ -1,18 +1,58 @@
 //! Hash-based random permutations with random access.
 //!
 //! `permute(i, n, key)` is a bijection of `[0, n)` chosen by `key`, evaluated in
-//! `O(1)` expected time and no memory. It composes invertible operations on
-//! `b`-bit words, `b = ⌈log₂ n⌉` (xor with a key, multiplication by an odd constant
-//! mod `2ᵇ`, addition of a key mod `2ᵇ`, and `x ⊕= x ≫ h`), which together form a
-//! bijection of `[0, 2ᵇ)`, and then *cycle-walks*: re-applies the bijection until the
-//! value falls in `[0, n)` (Black & Rogaway 2002[^1]). Since `n > 2ᵇ⁻¹`, fewer than
-//! two rounds are needed on average. The same idea drives Kensler's correlated
-//! multi-jittered sampling[^2]; the rounds and constants here are our own.
+//! `O(1)` expected time and no memory:
 //!
-//! [^1]: J. Black, P. Rogaway, *Ciphers with Arbitrary Finite Domains*, CT-RSA 2002.
-//! [^2]: A. Kensler, *Correlated Multi-Jittered Sampling*, Pixar Technical Memo 13-01 (2013).
+//! 1. a keyed bijection `P` of `[0, 2ᵇ)`, `b = ⌈log₂ n⌉`: a generalised Feistel
+//!    network on the split `x = (hi, lo)` (`⌈b/2⌉` and `⌊b/2⌋` bits) whose rounds
+//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (six rounds) with the round function
+//!    `F = mix32(· ⊕ k_r)` (Luby & Rackoff 1988[^1]); each round is invertible;
+//! 2. *cycle walking* (Black & Rogaway 2002[^2]): `P` is re-applied until the value
+//!    falls in `[0, n)`, which restricts the bijection to `[0, n)`; since
+//!    `n > 2ᵇ⁻¹`, fewer than two steps are needed on average;
+//! 3. a keyed rotation `x ↦ (x + c) mod n` with `c` uniform in `[0, n)`, so that for
+//!    every `i` the value `permute(i, n, key)` is uniform over `[0, n)` when the key
+//!    is random: patterns built from these permutations stay unbiased.
+//!
+//! Domains of at most [`SMALL_DOMAIN`] elements, where a Feistel network reaches
+//! too few permutations, use an exact Fisher–Yates shuffle on the stack instead.
+//!
+//! The same idea drives Kensler's correlated multi-jittered sampling[^3]; the
+//! rounds and constants here are our own.
+//!
+//! [^1]: M. Luby, C. Rackoff, *How to Construct Pseudorandom Permutations from
+//!   Pseudorandom Functions*, SIAM J. Comput. 17(2), 1988.
+//! [^2]: J. Black, P. Rogaway, *Ciphers with Arbitrary Finite Domains*, CT-RSA 2002.
+//! [^3]: A. Kensler, *Correlated Multi-Jittered Sampling*, Pixar Technical Memo 13-01 (2013).
 
+use crate::rng::{mix32, mix32x8};
 use wide::u32x8;
+
+/// Number of Feistel rounds (three per half).
+const ROUNDS: u32 = 6;
+
+/// Domains up to this size use an exact Fisher–Yates shuffle instead of the
+/// Feistel network (tiny Feistel networks reach only some permutations).
+pub const SMALL_DOMAIN: u32 = 32;
+
+/// Element `i` of a uniformly random permutation of `[0, n)`, `n ≤ 32`, by a
+/// Fisher–Yates shuffle of a stack array driven by keyed hashes (Durstenfeld 1964);
+/// each swap index is `⌊h·(j+1)/2³²⌋`, uniform up to a bias below `2⁻²⁷`.
+#[inline]
+fn permute_small(i: u32, n: u32, key: u32) -> u32 {
+    let mut a = [0u8; SMALL_DOMAIN as usize];
+    for (j, x) in a.iter_mut().enumerate() {
+        *x = j as u8;
+    }
+    let mut j = n - 1;
+    while j > 0 {
+        let h = round_key(key, 64 + j);
+        let k = ((u64::from(h) * u64::from(j + 1)) >> 32) as usize;
+        a.swap(j as usize, k);
+        j -= 1;
+    }
+    u32::from(a[i as usize])
+}
 
 /// The `b`-bit mask `2ᵇ − 1` with `b = ⌈log₂ n⌉` (0 for `n ≤ 1`).
 #[inline(always)]
@@ -25,31 +65,39 @@ pub const fn domain_mask(n: u32) -> u32 {
     }
 }
 
-/// One round of the bijection of `[0, mask]` (mask = `2ᵇ − 1`), `h = ⌈b/2⌉`.
+/// Round keys and rotation of one permutation.
 #[inline(always)]
-const fn round(mut x: u32, key: u32, mask: u32, h: u32) -> u32 {
-    x ^= key & mask;
-    x = x.wrapping_mul(0x9E37_79B1) & mask;
-    x ^= x >> h;
-    x = x.wrapping_add(key >> 7) & mask;
-    x = x.wrapping_mul(0x85EB_CA6B) & mask;
-    x ^= x >> h;
-    x ^= (key >> 13) & mask;
-    x = x.wrapping_mul(0xC2B2_AE35) & mask;
-    x ^= x >> h;
-    x
+const fn round_key(key: u32, r: u32) -> u32 {
+    mix32(key ^ r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15))
 }
 
+/// The keyed bijection `P` of `[0, 2ᵇ)` (lo = low `lo_bits` bits).
 #[inline(always)]
-const fn half_bits(mask: u32) -> u32 {
-    mask.count_ones().div_ceil(2)
+const fn feistel(
+    x: u32,
+    keys: &[u32; ROUNDS as usize],
+    lo_bits: u32,
+    hi_mask: u32,
+    lo_mask: u32,
+) -> u32 {
+    let mut hi = x >> lo_bits;
+    let mut lo = x & lo_mask;
+    let mut r = 0;
+    while r < ROUNDS as usize {
+        if r % 2 == 0 {
+            hi ^= mix32(lo ^ keys[r]) & hi_mask;
+        } else {
+            lo ^= mix32(hi ^ keys[r]) & lo_mask;
+        }
+        r += 1;
+    }
+    (hi << lo_bits) | lo
 }
 
 /// Element `i` of the random permutation of `[0, n)` selected by `key`.
 ///
 /// `i` must be below `n`; in release builds an `i ≥ n` returns an unspecified
-/// value that is still below `n` when `i < 2^⌈log₂ n⌉` (debug builds assert).
-/// For `n ≤ 1` the result is 0.
+/// value below `n` (debug builds assert). For `n ≤ 1` the result is 0.
 #[inline]
 #[must_use]
 pub fn permute(i: u32, n: u32, key: u32) -> u32 {
@@ -57,15 +105,33 @@ pub fn permute(i: u32, n: u32, key: u32) -> u32 {
     if n <= 1 {
         return 0;
     }
+    if n <= SMALL_DOMAIN {
+        return permute_small(i % n, n, key);
+    }
     let mask = domain_mask(n);
-    let h = half_bits(mask);
-    let k = crate::rng::mix32(key);
+    let bits = mask.count_ones();
+    let lo_bits = bits / 2;
+    let lo_mask = (1u32 << lo_bits) - 1;
+    let hi_mask = mask >> lo_bits;
+    let mut keys = [0u32; ROUNDS as usize];
+    let mut r = 0;
+    while r < ROUNDS as usize {
+        keys[r] = round_key(key, r as u32);
+        r += 1;
+    }
     let mut x = i & mask;
     loop {
-        x = round(x, k, mask, h);
+        x = feistel(x, &keys, lo_bits, hi_mask, lo_mask);
         if x < n {
-            return x;
+            break;
         }
+    }
+    let c = ((u64::from(round_key(key, ROUNDS)) * u64::from(n)) >> 32) as u32;
+    let y = x + c;
+    if y >= n {
+        y - n
+    } else {
+        y
     }
 }
 
@@ -77,31 +143,39 @@ pub fn permute_x8(i: u32x8, n: u32, key: u32x8) -> u32x8 {
     if n <= 1 {
         return u32x8::ZERO;
     }
+    if n <= SMALL_DOMAIN {
+        let (ia, ka) = (i.to_array(), key.to_array());
+        return u32x8::new(core::array::from_fn(|l| permute_small(ia[l] % n, n, ka[l])));
+    }
     let mask = domain_mask(n);
-    let h = half_bits(mask);
-    let k = crate::rng::mix32x8(key);
-    let vm = u32x8::splat(mask);
-    let vn = u32x8::splat(n);
-    let round8 = |mut x: u32x8| {
-        x ^= k & vm;
-        x = (x * u32x8::splat(0x9E37_79B1)) & vm;
-        x ^= x >> h;
-        x = (x + (k >> 7)) & vm;
-        x = (x * u32x8::splat(0x85EB_CA6B)) & vm;
-        x ^= x >> h;
-        x ^= (k >> 13) & vm;
-        x = (x * u32x8::splat(0xC2B2_AE35)) & vm;
-        x ^= x >> h;
-        x
+    let bits = mask.count_ones();
+    let lo_bits = bits / 2;
+    let lo_mask = u32x8::splat((1u32 << lo_bits) - 1);
+    let hi_mask = u32x8::splat(mask >> lo_bits);
+    let rk =
+        |r: u32| mix32x8(key ^ u32x8::splat(r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)));
+    let keys = [rk(0), rk(1), rk(2), rk(3), rk(4), rk(5)];
+    let p = |x: u32x8| {
+        let mut hi = x >> lo_bits;
+        let mut lo = x & lo_mask;
+        for r in (0..ROUNDS as usize).step_by(2) {
+            hi ^= mix32x8(lo ^ keys[r]) & hi_mask;
+            lo ^= mix32x8(hi ^ keys[r + 1]) & lo_mask;
+        }
+        (hi << lo_bits) | lo
     };
-    let mut x = round8(i & vm);
+    let vn = u32x8::splat(n);
+    let mut x = p(i & u32x8::splat(mask));
     let mut pending = x.simd_ge(vn);
     while pending.any() {
-        let y = round8(x);
+        let y = p(x);
         x = pending.select(y, x);
         pending &= x.simd_ge(vn);
     }
-    x
+    let c = rk(ROUNDS).mul_keep_high(vn);
+    let y = x + c;
+    let over = y.simd_ge(vn);
+    y - (over & vn)
 }
 
 #[cfg(test)]
@@ -120,6 +194,57 @@ mod tests {
                     seen[p] = true;
                 }
             }
+        }
+    }
+
+    #[test]
+    fn each_element_is_uniform_over_keys() {
+        // For a fixed i, permute(i, n, key) over 60000 keys: chi-square against the
+        // uniform distribution below its 99.99% quantile (df = n − 1; bound from the
+        // Wilson–Hilferty approximation, z = 3.72).
+        for n in [2u32, 3, 5, 6, 7, 11, 53, 100] {
+            for i in [0, 1, n - 1] {
+                let mut h = [0u32; 100];
+                let k = 60_000u32;
+                for key in 0..k {
+                    h[permute(i, n, key.wrapping_mul(0x2545_F491)) as usize] += 1;
+                }
+                let e = f64::from(k) / f64::from(n);
+                let chi: f64 = h[..n as usize]
+                    .iter()
+                    .map(|&c| (f64::from(c) - e).powi(2) / e)
+                    .sum();
+                let df = f64::from(n - 1);
+                let q = df * (1.0 - 2.0 / (9.0 * df) + 3.72 * libm::sqrt(2.0 / (9.0 * df))).powi(3);
+                assert!(chi < q, "n {n} i {i}: chi2 {chi} ≥ {q}");
+            }
+        }
+    }
+
+    #[test]
+    fn pairs_are_uniform_over_keys() {
+        // (permute(0), permute(1)) over 40000 keys is uniform over the n(n−1)
+        // ordered pairs of distinct values: chi-square below its 99.99% quantile.
+        for n in [3u32, 5, 7, 11, 17, 31, 33, 53] {
+            let mut h = [0u32; 53 * 53];
+            let cells = (n * n) as usize;
+            let k = 40_000u32;
+            for key in 0..k {
+                let key = key.wrapping_mul(0x2545_F491);
+                h[(permute(0, n, key) * n + permute(1, n, key)) as usize] += 1;
+            }
+            let e = f64::from(k) / f64::from(n * (n - 1));
+            let mut chi = 0.0;
+            for (c, &v) in h[..cells].iter().enumerate() {
+                if c as u32 / n == c as u32 % n {
+                    assert_eq!(v, 0, "n {n}: a permutation repeated a value");
+                } else {
+                    chi += (f64::from(v) - e).powi(2) / e;
+                }
+            }
+            let df = f64::from(n * (n - 1) - 1);
+            let q = df * (1.0 - 2.0 / (9.0 * df) + 3.72 * libm::sqrt(2.0 / (9.0 * df))).powi(3);
+            assert!(chi < q, "n {n}: chi2 {chi} ≥ {q}");
         }
     }
 
