@@ -209,6 +209,10 @@ fn grid_choice() {
 #[test]
 fn bad_input_is_an_error_naming_the_parameter() {
     assert_eq!(Random::<2>::new(0), Err(PatternError::ZeroPoints));
+    assert_eq!(
+        Random::<3>::new(usize::MAX),
+        Err(PatternError::TooManyPoints { max: 1 << 32 })
+    );
     assert_eq!(NRooks::<2>::new(0), Err(PatternError::ZeroPoints));
     assert!(NRooks::<2>::new((1 << 24) + 1).is_err());
     assert_eq!(MultiJittered::new(0), Err(PatternError::ZeroPoints));

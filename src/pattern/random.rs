@@ -24,11 +24,14 @@ impl<const D: usize> Random<D> {
     ///
     /// # Errors
     /// [`PatternError::ZeroPoints`] for `n = 0`, [`PatternError::Dims`] unless
-    /// `1 ≤ D ≤ 3`.
+    /// `1 ≤ D ≤ 3`, [`PatternError::TooManyPoints`] for `n > 2³²`.
     pub fn new(n: usize) -> Result<Self, PatternError> {
         check_dims::<D>(1, 3)?;
         if n == 0 {
             return Err(PatternError::ZeroPoints);
+        }
+        if n as u64 > 1 << 32 {
+            return Err(PatternError::TooManyPoints { max: 1 << 32 });
         }
         Ok(Self { n: n as u64 })
     }
@@ -43,14 +46,14 @@ impl<const D: usize> Generate<D> for Random<D> {
         let base = seed.pcg(PURPOSE);
         let d = D as u64;
         let mut lanes: [Pcg32x8; D] =
-            core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
+            core::array::from_fn(|j| Pcg32x8::new(&base, first.wrapping_mul(d) + j as u64, d));
         drive8(sink, || {
             build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next_u32x8()))
         });
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
+        let mut g = seed.pcg(PURPOSE).advanced(first.wrapping_mul(D as u64));
         for i in 0..sink.len() {
             let p = build(0.0, |_| unit_f32(g.next_u32()));
             sink.put(i, p);

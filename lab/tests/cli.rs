@@ -1,0 +1,326 @@
+//! End-to-end tests of the `linesample-lab` binary, each in its own temp dir.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+const BIN: &str = env!("CARGO_BIN_EXE_linesample-lab");
+
+/// A fresh, empty directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(tag: &str) -> Self {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.subsec_nanos());
+        let dir = std::env::temp_dir().join(format!(
+            "linesample-lab-test-{tag}-{}-{}-{nanos}",
+            std::process::id(),
+            COUNTER.fetch_add(1, Ordering::Relaxed)
+        ));
+        fs::create_dir_all(&dir).expect("create temp dir");
+        TempDir(dir)
+    }
+
+    fn path(&self) -> &Path {
+        &self.0
+    }
+
+    /// Every file below the directory (relative paths), sorted.
+    fn files(&self) -> Vec<PathBuf> {
+        fn walk(dir: &Path, root: &Path, out: &mut Vec<PathBuf>) {
+            for e in fs::read_dir(dir).expect("read_dir").flatten() {
+                let p = e.path();
+                if p.is_dir() {
+                    walk(&p, root, out);
+                } else {
+                    out.push(p.strip_prefix(root).unwrap().to_path_buf());
+                }
+            }
+        }
+        let mut v = Vec::new();
+        walk(&self.0, &self.0, &mut v);
+        v.sort();
+        v
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = fs::remove_dir_all(&self.0);
+    }
+}
+
+fn lab(dir: &TempDir, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir.path())
+        .output()
+        .expect("run linesample-lab")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Parses a point file and checks it has `n` lines of `d` numbers in `[0, 1)`.
+fn check_points(path: &Path, n: usize, d: usize) -> Vec<Vec<f32>> {
+    let text = fs::read_to_string(path).expect("read points");
+    assert!(text.ends_with('\n'), "{}: no final newline", path.display());
+    let pts: Vec<Vec<f32>> = text
+        .lines()
+        .map(|line| {
+            assert!(!line.contains("  ") && !line.starts_with(' ') && !line.ends_with(' '));
+            line.split(' ')
+                .map(|t| {
+                    t.parse::<f32>()
+                        .unwrap_or_else(|_| panic!("bad number {t:?}"))
+                })
+                .collect()
+        })
+        .collect();
+    assert_eq!(pts.len(), n, "{}: line count", path.display());
+    for p in &pts {
+        assert_eq!(p.len(), d, "{}: coordinates per line", path.display());
+        assert!(
+            p.iter().all(|x| (0.0..1.0).contains(x)),
+            "{p:?} outside [0,1)"
+        );
+    }
+    pts
+}
+
+fn circles(path: &Path) -> usize {
+    let svg = fs::read_to_string(path).expect("read svg");
+    assert!(svg.trim_start().starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+    svg.matches("<circle ").count()
+}
+
+#[test]
+fn patterns_writes_points_and_svg() {
+    let dir = TempDir::new("patterns");
+    for (sampler, dims, n, circles_per_point, extra) in [
+        ("cmj", "2", 256, 1, &[][..]),
+        ("jittered", "3", 64, 3, &[][..]),
+        (
+            "random",
+            "1",
+            100,
+            1,
+            &["--shift", "--realization", "3"][..],
+        ),
+        ("multi-jittered", "2", 96, 1, &["--grid", "12x8"][..]),
+        ("jittered", "2", 60, 1, &["--strata", "10,6"][..]),
+        ("n-rooks", "3", 50, 3, &[][..]),
+        ("sobol", "2", 128, 1, &[][..]),
+        ("halton", "3", 77, 3, &["--shift"][..]),
+    ] {
+        let prefix = format!("sub/dir/{sampler}-{dims}");
+        let ns = n.to_string();
+        let mut args = vec!["patterns", "--sampler", sampler, "--dims", dims];
+        if !extra.contains(&"--grid") && !extra.contains(&"--strata") {
+            args.extend(["-n", ns.as_str()]);
+        }
+        args.extend(["--seed", "7", "--out", prefix.as_str()]);
+        args.extend(extra);
+        let o = lab(&dir, &args);
+        assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+        let d: usize = dims.parse().unwrap();
+        let txt = dir.path().join(format!("{prefix}.txt"));
+        check_points(&txt, n, d);
+        let svg = dir.path().join(format!("{prefix}.svg"));
+        assert_eq!(circles(&svg), n * circles_per_point, "{args:?}");
+        let title = fs::read_to_string(&svg).unwrap();
+        assert!(title.contains(&format!("{sampler}, {d}D, N = {n}, seed 7")));
+    }
+    // No temporary files left behind.
+    assert!(dir
+        .files()
+        .iter()
+        .all(|f| !f.to_string_lossy().ends_with(".tmp")));
+}
+
+#[test]
+fn patterns_is_deterministic_and_realizations_differ() {
+    let dir = TempDir::new("determinism");
+    let run = |out: &str, r: &str| {
+        let o = lab(
+            &dir,
+            &[
+                "patterns",
+                "--sampler",
+                "random",
+                "-n",
+                "64",
+                "--realization",
+                r,
+                "--out",
+                out,
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        fs::read_to_string(dir.path().join(format!("{out}.txt"))).unwrap()
+    };
+    assert_eq!(run("a", "0"), run("b", "0"));
+    assert_ne!(run("a", "0"), run("c", "1"));
+}
+
+#[test]
+fn default_output_path() {
+    let dir = TempDir::new("default-out");
+    let o = lab(&dir, &["patterns", "--sampler", "halton", "-n", "32"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_points(&dir.path().join("out/patterns/halton-2d-32.txt"), 32, 2);
+    assert_eq!(
+        circles(&dir.path().join("out/patterns/halton-2d-32.svg")),
+        32
+    );
+}
+
+#[test]
+fn bad_input_fails_cleanly() {
+    let dir = TempDir::new("bad");
+    for (args, names) in [
+        (
+            &["--sampler", "random", "-n", "0"][..],
+            "n must be at least 1",
+        ),
+        (&["--sampler", "random", "--dims", "4"][..], "--dims"),
+        (&["--sampler", "cmj", "--dims", "3"][..], "--dims 3"),
+        (
+            &["--sampler", "multi-jittered", "--dims", "1"][..],
+            "--dims 1",
+        ),
+        (
+            &["--sampler", "jittered", "-n", "1000", "--dims", "2"][..],
+            "--strata",
+        ),
+        (
+            &["--sampler", "jittered", "--strata", "4,4", "--dims", "3"][..],
+            "--strata",
+        ),
+        (
+            &["--sampler", "jittered", "--strata", "4,4", "-n", "15"][..],
+            "strata",
+        ),
+        (&["--sampler", "random", "--strata", "4,4"][..], "--strata"),
+        (&["--sampler", "sobol", "--grid", "4x4"][..], "--grid"),
+        (
+            &["--sampler", "cmj", "--grid", "4x4", "-n", "15"][..],
+            "-n 15",
+        ),
+        (&["--sampler", "cmj", "--grid", "4by4"][..], "--grid"),
+        (&["--sampler", "nope"][..], "--sampler"),
+    ] {
+        let mut full = vec!["patterns"];
+        full.extend(args);
+        full.extend(["--out", "res/p"]);
+        let o = lab(&dir, &full);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{full:?} succeeded");
+        assert!(err.starts_with("error: "), "{full:?}: {err}");
+        assert!(
+            err.contains(names),
+            "{full:?}: {err:?} should mention {names:?}"
+        );
+        assert!(dir.files().is_empty(), "{full:?} left {:?}", dir.files());
+    }
+    // The jittered message explains why and what to do.
+    let o = lab(
+        &dir,
+        &[
+            "patterns",
+            "--sampler",
+            "jittered",
+            "-n",
+            "1000",
+            "--dims",
+            "2",
+        ],
+    );
+    assert!(
+        stderr(&o).contains("not a perfect square"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
+fn unwritable_output_fails_without_partial_files() {
+    let dir = TempDir::new("unwritable");
+    // `blocker` is a file, so `blocker/p.txt` cannot be created.
+    fs::write(dir.path().join("blocker"), "x").unwrap();
+    let o = lab(
+        &dir,
+        &["patterns", "--sampler", "random", "--out", "blocker/p"],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).starts_with("error: "), "{}", stderr(&o));
+    assert_eq!(dir.files(), vec![PathBuf::from("blocker")]);
+}
+
+#[test]
+fn gallery_writes_every_pattern_and_the_index() {
+    let dir = TempDir::new("gallery");
+    let o = lab(&dir, &["gallery", "--out-dir", "g", "--runs", "1"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let csv = fs::read_to_string(dir.path().join("g/index.csv")).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("sampler,dims,n,seed,median_us,txt,svg"));
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 12, "{csv}");
+    for r in &rows {
+        assert_eq!(r.len(), 7, "{r:?}");
+        let (d, n): (usize, usize) = (r[1].parse().unwrap(), r[2].parse().unwrap());
+        assert_eq!(r[3], "1");
+        assert!(r[4].parse::<f64>().unwrap() >= 0.0);
+        check_points(&dir.path().join("g").join(r[5]), n, d);
+        let per_point = if d == 3 { 3 } else { 1 };
+        assert_eq!(circles(&dir.path().join("g").join(r[6])), n * per_point);
+    }
+    for (s, d) in [("multi-jittered", "2"), ("cmj", "2"), ("jittered", "3")] {
+        assert!(
+            rows.iter().any(|r| r[0] == s && r[1] == d),
+            "{s} {d}D missing"
+        );
+    }
+    assert!(!rows.iter().any(|r| r[0] == "cmj" && r[1] == "3"));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("median"), "{stdout}");
+    assert_eq!(stdout.lines().filter(|l| l.contains(".svg")).count(), 12);
+}
+
+#[test]
+fn no_subcommand_runs_the_gallery() {
+    let dir = TempDir::new("default");
+    let o = lab(&dir, &[]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("out/patterns/index.csv").is_file());
+    assert!(dir.path().join("out/patterns/cmj-2d-1024.txt").is_file());
+    assert!(dir
+        .path()
+        .join("out/patterns/jittered-3d-1000.svg")
+        .is_file());
+}
+
+#[test]
+fn help_describes_the_formats() {
+    let dir = TempDir::new("help");
+    let o = lab(&dir, &["patterns", "--help"]);
+    assert!(o.status.success());
+    let h = String::from_utf8_lossy(&o.stdout);
+    for s in [
+        "--sampler",
+        "multi-jittered",
+        "n-rooks",
+        "--strata",
+        "--grid",
+        "UTK",
+        "<circle>",
+    ] {
+        assert!(h.contains(s), "help lacks {s}");
+    }
+}
