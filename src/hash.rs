@@ -5,7 +5,7 @@
 //!
 //! 1. a keyed bijection `P` of `[0, 2ᵇ)`, `b = ⌈log₂ n⌉`: a generalised Feistel
 //!    network on the split `x = (hi, lo)` (`⌈b/2⌉` and `⌊b/2⌋` bits) whose rounds
-//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (six rounds) with the round function
+//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (eight rounds) with the round function
 //!    `F = mix32(· ⊕ k_r)` (Luby & Rackoff 1988[^1]); each round is invertible;
 //! 2. *cycle walking* (Black & Rogaway 2002[^2]): `P` is re-applied until the value
 //!    falls in `[0, n)`, which restricts the bijection to `[0, n)`; since
@@ -28,18 +28,24 @@
 use crate::rng::{mix32, mix32x8};
 use wide::u32x8;
 
-/// Number of Feistel rounds (three per half).
-const ROUNDS: u32 = 6;
+/// Number of Feistel rounds (four per half).
+const ROUNDS: u32 = 8;
 
 /// Domains up to this size use an exact Fisher–Yates shuffle instead of the
 /// Feistel network (tiny Feistel networks reach only some permutations).
-pub const SMALL_DOMAIN: u32 = 32;
+pub const SMALL_DOMAIN: u32 = 16;
 
-/// Element `i` of a uniformly random permutation of `[0, n)`, `n ≤ 32`, by a
+/// Element `i` of a uniformly random permutation of `[0, n)`, `n ≤ 16`, by a
 /// Fisher–Yates shuffle of a stack array driven by keyed hashes (Durstenfeld 1964);
 /// each swap index is `⌊h·(j+1)/2³²⌋`, uniform up to a bias below `2⁻²⁷`.
 #[inline]
 fn permute_small(i: u32, n: u32, key: u32) -> u32 {
+    u32::from(small_table(n, key)[i as usize])
+}
+
+/// The whole permutation of [`permute_small`].
+#[inline]
+fn small_table(n: u32, key: u32) -> [u8; SMALL_DOMAIN as usize] {
     let mut a = [0u8; SMALL_DOMAIN as usize];
     for (j, x) in a.iter_mut().enumerate() {
         *x = j as u8;
@@ -51,7 +57,7 @@ fn permute_small(i: u32, n: u32, key: u32) -> u32 {
         a.swap(j as usize, k);
         j -= 1;
     }
-    u32::from(a[i as usize])
+    a
 }
 
 /// The `b`-bit mask `2ᵇ − 1` with `b = ⌈log₂ n⌉` (0 for `n ≤ 1`).
@@ -145,6 +151,11 @@ pub fn permute_x8(i: u32x8, n: u32, key: u32x8) -> u32x8 {
     }
     if n <= SMALL_DOMAIN {
         let (ia, ka) = (i.to_array(), key.to_array());
+        if ka.iter().all(|&k| k == ka[0]) {
+            // One key for all lanes (e.g. correlated multi-jitter): one table.
+            let t = small_table(n, ka[0]);
+            return u32x8::new(core::array::from_fn(|l| u32::from(t[(ia[l] % n) as usize])));
+        }
         return u32x8::new(core::array::from_fn(|l| permute_small(ia[l] % n, n, ka[l])));
     }
     let mask = domain_mask(n);
@@ -154,7 +165,7 @@ pub fn permute_x8(i: u32x8, n: u32, key: u32x8) -> u32x8 {
     let hi_mask = u32x8::splat(mask >> lo_bits);
     let rk =
         |r: u32| mix32x8(key ^ u32x8::splat(r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)));
-    let keys = [rk(0), rk(1), rk(2), rk(3), rk(4), rk(5)];
+    let keys: [u32x8; ROUNDS as usize] = core::array::from_fn(|r| rk(r as u32));
     let p = |x: u32x8| {
         let mut hi = x >> lo_bits;
         let mut lo = x & lo_mask;

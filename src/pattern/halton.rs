@@ -4,8 +4,7 @@
 use super::sealed::{Generate, Sink};
 use super::{check_dims, drive8, stratum_f32, ONE_MINUS_EPSILON};
 use crate::error::PatternError;
-use crate::hash::{permute, permute_x8};
-use crate::rng::{mix32, Seed};
+use crate::rng::{mix32, mix32x8, Seed};
 use wide::{f32x8, u32x8};
 
 /// The first 16 primes: the base of each Halton dimension.
@@ -174,6 +173,36 @@ const fn digit_key(dim_key: u32, k: u32) -> u32 {
     mix32(dim_key.wrapping_add(k.wrapping_mul(0x9E37_79B9)))
 }
 
+/// Random affine permutation of the digits `[0, b)` of a prime base `b`:
+/// `π(a) = (α·a + β) mod b` with `α = 1 + ⌊h₁(b−1)/2³²⌋ ∈ [1, b)` and
+/// `β = ⌊h₂·b/2³²⌋ ∈ [0, b)` from two hashes of `key`. For prime `b` this is a
+/// bijection; `π(a)` is uniform on `[0, b)` for every `a`, and for `a ≠ a'` the pair
+/// `(π(a), π(a'))` is uniform over the `b(b−1)` ordered pairs of distinct digits
+/// (up to hash bias below `b/2³²`).
+#[inline(always)]
+const fn affine_digit(a: u32, b: u32, key: u32) -> u32 {
+    let (alpha, beta) = affine_coefficients(b, key);
+    (alpha * a + beta) % b
+}
+
+#[inline(always)]
+const fn affine_coefficients(b: u32, key: u32) -> (u32, u32) {
+    let h1 = mix32(key);
+    let h2 = mix32(key ^ 0x5851_F42D);
+    let alpha = 1 + ((h1 as u64 * (b - 1) as u64) >> 32) as u32;
+    let beta = ((h2 as u64 * b as u64) >> 32) as u32;
+    (alpha, beta)
+}
+
+/// Lane-wise [`affine_digit`] (the `mod b` by the exact invariant divisor).
+#[inline(always)]
+fn affine_digit_x8(a: u32x8, b: u32, div: Divisor, key: u32x8) -> u32x8 {
+    let alpha = u32x8::ONE + mix32x8(key).mul_keep_high(u32x8::splat(b - 1));
+    let beta = mix32x8(key ^ u32x8::splat(0x5851_F42D)).mul_keep_high(u32x8::splat(b));
+    let x = alpha * a + beta;
+    x - div.div_x8(x) * u32x8::splat(b)
+}
+
 /// The digit loop: `(cell, tail)` of the scrambled radical inverse of `index`;
 /// `perm(a_k, k, i mod b^k)` is the digit permutation.
 #[inline(always)]
@@ -198,7 +227,7 @@ fn digits(index: u32, base: &Base, mut perm: impl FnMut(u32, u32, u32) -> u32) -
 #[inline(always)]
 fn sample_keyed(index: u32, base: &Base, dim_key: u32) -> f32 {
     let (cell, tail) = digits(index, base, |a, k, prefix| {
-        permute(a, base.b, prefix ^ digit_key(dim_key, k))
+        affine_digit(a, base.b, prefix ^ digit_key(dim_key, k))
     });
     base.coordinate(cell, tail)
 }
@@ -231,7 +260,11 @@ fn sample_keyed(index: u32, base: &Base, dim_key: u32) -> f32 {
 /// of `φ_b(i)` (`k = 0` the most significant) is replaced by `π_{k, i mod b^k}(a_k)`,
 /// where `π` is a random permutation of `[0, b)` that depends on the seed, the
 /// dimension, the digit position `k` and the digits before it (`i mod b^k`). The
-/// permutation is [`crate::hash::permute`]`(a_k, b, key)` with
+/// permutations are random affine maps `a ↦ (α·a + β) mod b` (nested random linear
+/// scrambling, Matoušek 1998[^4]): each digit value is mapped uniformly and each pair
+/// of distinct digits to a uniform pair of distinct digits, which is all that the
+/// mean and variance of Owen-scrambled points depend on (Owen 1997[^5]), at the cost
+/// of one hash per digit. The map is `affine_digit(a_k, b, key)` with
 /// `key = (i mod b^k) ⊕ κ_{σ,d,k}`, `κ_{σ,d,k} = mix32(κ_{σ,d} + k·⌊2³²/φ⌋)` and
 /// `κ_{σ,d}` drawn from the seed. The scramble keeps going past the digits of the
 /// index (those digits are 0 but are still permuted, which fills the low digits
@@ -247,8 +280,7 @@ fn sample_keyed(index: u32, base: &Base, dim_key: u32) -> f32 {
 /// rounding left the cell. The `f32` therefore lies in the exact stratum
 /// `[c'/b^k, (c'+1)/b^k)` of the scrambled digits for every `k ≤ J_b`, and is never
 /// 1.0. The SIMD path runs the digit loop in `u32x8` lanes (division by `b` by a
-/// multiply-high with a precomputed magic number, Granlund & Montgomery 1994[^3],
-/// and [`crate::hash::permute_x8`]) and the final `f32` rounding lane by lane, with
+/// multiply-high with a precomputed magic number, Granlund & Montgomery 1994[^3]) and the final `f32` rounding lane by lane, with
 /// the same integer and `f64` operations as the scalar path, so both give the same
 /// bits.
 ///
@@ -257,6 +289,10 @@ fn sample_keyed(index: u32, base: &Base, dim_key: u32) -> f32 {
 /// [^2]: A. B. Owen, *A randomized Halton algorithm in R*, arXiv:1706.02808, 2017.
 /// [^3]: T. Granlund, P. L. Montgomery, *Division by invariant integers using
 ///   multiplication*, PLDI 1994.
+/// [^4]: J. Matoušek, *On the L2-discrepancy for anchored boxes*, J. Complexity
+///   14(4), 1998.
+/// [^5]: A. B. Owen, *Monte Carlo variance of scrambled net quadrature*, SIAM J.
+///   Numer. Anal. 34(5), 1997.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Halton<const D: usize> {
     n: u64,
@@ -346,7 +382,12 @@ impl<const D: usize> Generate<D> for Halton<D> {
                 for k in 0..base.digits {
                     let qn = base.div.div_x8(q);
                     let a = q - qn * vb;
-                    let d = permute_x8(a, base.b, prefix ^ u32x8::splat(keys[j][k as usize]));
+                    let d = affine_digit_x8(
+                        a,
+                        base.b,
+                        base.div,
+                        prefix ^ u32x8::splat(keys[j][k as usize]),
+                    );
                     if k < base.cell_digits {
                         cell = cell * vb + d;
                     } else {
@@ -444,12 +485,39 @@ mod tests {
     }
 
     #[test]
+    fn affine_digits_are_pairwise_uniform() {
+        // Over keys, (π(0), π(1)) is uniform over the b(b−1) ordered pairs of
+        // distinct digits: chi-square below its 99.99% quantile.
+        for b in [2u32, 3, 5, 7, 13, 53] {
+            let mut h = [0u32; 53 * 53];
+            let n = 60_000u32;
+            for key in 0..n {
+                let key = key.wrapping_mul(0x2545_F491);
+                let (x, y) = (affine_digit(0, b, key), affine_digit(1, b, key));
+                assert_ne!(x, y);
+                h[(x * b + y) as usize] += 1;
+            }
+            let e = f64::from(n) / f64::from(b * (b - 1));
+            let chi: f64 = (0..b * b)
+                .filter(|c| c / b != c % b)
+                .map(|c| (f64::from(h[c as usize]) - e).powi(2) / e)
+                .sum();
+            let df = f64::from((b * (b - 1)).max(2) - 1);
+            let q = df * (1.0 - 2.0 / (9.0 * df) + 3.72 * libm::sqrt(2.0 / (9.0 * df))).powi(3);
+            assert!(chi < q + 1e-9 || b == 2, "b {b}: chi2 {chi} ≥ {q}");
+            if b == 2 {
+                assert!((f64::from(h[1]) - e).abs() < 4.0 * e.sqrt());
+            }
+        }
+    }
+
+    #[test]
     fn scramble_permutes_each_digit() {
         // With a nested permutation, indices that differ only in digit k differ
         // in scrambled digit k and agree in digits 0..k.
         let base = &BASES[1];
         let dk = dim_key(Seed(5), 1);
-        let scr = |i| digits(i, base, |a, k, p| permute(a, 3, p ^ digit_key(dk, k)));
+        let scr = |i| digits(i, base, |a, k, p| affine_digit(a, 3, p ^ digit_key(dk, k)));
         for i in [0u32, 1, 5, 17, 100] {
             for k in 0..5u32 {
                 let step = 3u32.pow(k);
