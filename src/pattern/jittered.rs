@@ -1,9 +1,7 @@
 //! Jittered (stratified) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{
-    advance8, build, check_dims, drive8, lanes_of, stratum_f32, stratum_f32x8, MAX_STRATA,
-};
+use super::{advance8, build, check_dims, drive8, lanes_of, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
 use wide::{f32x8, u32x8};
@@ -115,14 +113,13 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         let d = D as u64;
         let mut lanes: [Pcg32x8; D] =
             core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
-        let m: [f64; D] = self.strata.map(f64::from);
-        let inv: [f64; D] = m.map(|m| 1.0 / m);
+        let axes: [Strata; D] = self.strata.map(Strata::new);
         let vm: [u32x8; D] = self.strata.map(u32x8::splat);
         // Per-lane cell counters for points first + l, advanced by 8 per block.
         let mut cell: [u32x8; D] = lanes_of(|l| self.cell_of(first + l as u64));
         drive8(sink, || {
             let out = build(f32x8::ZERO, |j| {
-                stratum_f32x8(cell[j], lanes[j].next_u32x8(), m[j], inv[j])
+                axes[j].point_x8(cell[j], lanes[j].next_u32x8())
             });
             advance8(&mut cell, &vm);
             out
@@ -131,12 +128,10 @@ impl<const D: usize> Generate<D> for Jittered<D> {
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
-        let m: [f64; D] = self.strata.map(f64::from);
+        let axes: [Strata; D] = self.strata.map(Strata::new);
         let mut cell = self.cell_of(first);
         for i in 0..sink.len() {
-            let p = build(0.0, |j| {
-                stratum_f32(cell[j], g.next_u32(), m[j], 1.0 / m[j])
-            });
+            let p = build(0.0, |j| axes[j].point(cell[j], g.next_u32()));
             sink.put(i, p);
             for j in 0..D {
                 cell[j] += 1;

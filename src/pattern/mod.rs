@@ -442,35 +442,77 @@ fn into_stratum(v: f32, cell: u32, m: f64) -> f32 {
     }
 }
 
-/// Four lanes of [`stratum_f32`] in `f64x4`, bit-identical to the scalar function:
-/// the same correctly rounded operations in the same order, and the rare edge
-/// correction done by the same scalar code.
-#[inline(always)]
-fn stratum_f32x4(cell: wide::i32x4, half_bits: wide::i32x4, m: f64, inv_m: f64) -> [f32; 4] {
-    use wide::f64x4;
-    let c = f64x4::from_i32x4(cell);
-    let u = f64x4::from_i32x4(half_bits) * f64x4::splat(1.0 / 2_147_483_648.0);
-    let x = ((c + u) * f64x4::splat(inv_m)).to_array();
-    let mut v = x.map(|x| x as f32);
-    let t = f64x4::new(v.map(f64::from)) * f64x4::splat(m);
-    let bad = t.simd_ge(c + f64x4::ONE) | t.simd_lt(c);
-    if bad.any() {
-        let ca = cell.to_array();
-        for l in 0..4 {
-            v[l] = into_stratum(v[l], ca[l] as u32, m);
-        }
-    }
-    v
+/// One axis cut into `m` strata: maps `(cell, random bits)` to an `f32` inside the
+/// stratum `[cell/m, (cell+1)/m)`, exactly.
+///
+/// Fast path, in `f32`: `v = (c + U·2⁻²⁴)·fl(1/m)` with `U = bits ≫ 8`. Its three
+/// roundings move `v` by less than `3.01·2⁻²⁴` from `(c + u)/m`, so when
+/// `4m ≤ U ≤ 2²⁴ − 4m` the point is more than that away from both stratum edges
+/// and `v` is provably inside. Otherwise (probability `8m/2²⁴`, or always when
+/// `m ≥ 2²¹`) the exact `f64` construction [`stratum_f32`] is used. The choice
+/// depends only on the bits, so the scalar and SIMD paths agree bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Strata {
+    m: f64,
+    inv: f64,
+    inv32: f32,
+    lo: u32,
+    hi: u32,
 }
 
-/// Lane-wise [`stratum_f32`].
-#[inline(always)]
-pub(crate) fn stratum_f32x8(cell: wide::u32x8, bits: wide::u32x8, m: f64, inv_m: f64) -> f32x8 {
-    let c: [wide::i32x4; 2] = bytemuck::cast(cell);
-    let b: [wide::i32x4; 2] = bytemuck::cast(bits >> 1);
-    let lo = stratum_f32x4(c[0], b[0], m, inv_m);
-    let hi = stratum_f32x4(c[1], b[1], m, inv_m);
-    f32x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
+impl Strata {
+    /// `m` strata, `1 ≤ m ≤ 2²⁴`.
+    pub(crate) fn new(m: u32) -> Self {
+        let d = 4 * u64::from(m);
+        let (lo, hi) = if d >= 1 << 23 {
+            (u32::MAX, 0)
+        } else {
+            (d as u32, (1 << 24) - d as u32)
+        };
+        Self {
+            m: f64::from(m),
+            inv: 1.0 / f64::from(m),
+            inv32: 1.0 / m as f32,
+            lo,
+            hi,
+        }
+    }
+
+    /// The coordinate of a point of stratum `cell` with jitter `bits`.
+    #[inline(always)]
+    pub(crate) fn point(&self, cell: u32, bits: u32) -> f32 {
+        let u = bits >> 8;
+        if u >= self.lo && u <= self.hi {
+            (cell as f32 + u as f32 * (1.0 / 16_777_216.0)) * self.inv32
+        } else {
+            stratum_f32(cell, bits, self.m, self.inv)
+        }
+    }
+
+    /// Lane-wise [`Strata::point`].
+    #[inline(always)]
+    pub(crate) fn point_x8(&self, cell: wide::u32x8, bits: wide::u32x8) -> f32x8 {
+        let u: wide::u32x8 = bits >> 8;
+        let c = f32x8::from_i32x8(bytemuck::cast(cell));
+        let uf = f32x8::from_i32x8(bytemuck::cast(u)) * f32x8::splat(1.0 / 16_777_216.0);
+        let v = (c + uf) * f32x8::splat(self.inv32);
+        let slow = u.simd_lt(wide::u32x8::splat(self.lo)) | u.simd_gt(wide::u32x8::splat(self.hi));
+        if !slow.any() {
+            return v;
+        }
+        let (mut va, sa, ca, ba) = (
+            v.to_array(),
+            slow.to_array(),
+            cell.to_array(),
+            bits.to_array(),
+        );
+        for l in 0..8 {
+            if sa[l] != 0 {
+                va[l] = stratum_f32(ca[l], ba[l], self.m, self.inv);
+            }
+        }
+        f32x8::new(va)
+    }
 }
 
 /// Adds 8 to per-lane mixed-radix counters `cell` (digit `j` in `[0, m_j)`, digit 0
@@ -556,6 +598,63 @@ mod tests {
                         t >= f64::from(cell) && t < f64::from(cell) + 1.0,
                         "m {m} cell {cell} bits {bits:#x}: {v}"
                     );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn strata_fast_path_is_exact_and_lanes_agree() {
+        for m in [
+            1u32,
+            2,
+            3,
+            7,
+            64,
+            1000,
+            65_536,
+            99_991,
+            1 << 20,
+            (1 << 21) - 1,
+            1 << 24,
+        ] {
+            let s = Strata::new(m);
+            let lo = (4 * m).min(1 << 23);
+            let bits = [0u32, 1, 0xFFFF_FFFF, 0x8000_0000, 0x7FFF_FFFF];
+            let edges = [
+                lo.saturating_sub(1),
+                lo,
+                (1 << 24) - lo,
+                ((1 << 24) - lo + 1).min((1 << 24) - 1),
+            ];
+            let mut all: [u32; 13] = [0; 13];
+            all[..5].copy_from_slice(&bits);
+            for (k, e) in edges.iter().enumerate() {
+                all[5 + 2 * k] = e << 8;
+                all[6 + 2 * k] = (e << 8) | 0xFF;
+            }
+            for cell in [0, 1, m / 2, m.saturating_sub(2), m - 1] {
+                if cell >= m {
+                    continue;
+                }
+                for &b in &all {
+                    let v = s.point(cell, b);
+                    let t = f64::from(v) * f64::from(m);
+                    assert!((0.0..1.0).contains(&v));
+                    assert!(
+                        t >= f64::from(cell) && t < f64::from(cell) + 1.0,
+                        "m {m} cell {cell} bits {b:#x}: {v}"
+                    );
+                }
+                for chunk in all.chunks(8) {
+                    let mut b8 = [0u32; 8];
+                    b8[..chunk.len()].copy_from_slice(chunk);
+                    let v8 = s
+                        .point_x8(wide::u32x8::splat(cell), wide::u32x8::new(b8))
+                        .to_array();
+                    for l in 0..8 {
+                        assert_eq!(v8[l].to_bits(), s.point(cell, b8[l]).to_bits());
+                    }
                 }
             }
         }

@@ -22,7 +22,7 @@
 //! Technical Memo 13-01 (2013).
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, drive8, lanes_of, stratum_f32, stratum_f32x8, MAX_STRATA};
+use super::{advance8, drive8, lanes_of, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, permute_x8};
 use crate::rng::{Pcg32x8, Seed};
@@ -95,8 +95,7 @@ impl Grid {
             core::array::from_fn(|j| Pcg32x8::new(&base, first * 2 + j as u64, 2));
         let (kx, ky, step) = self.keys(seed);
         let (m, n) = (self.cols, self.rows);
-        let total = f64::from(m) * f64::from(n);
-        let inv = 1.0 / total;
+        let axis = Strata::new(m * n);
         let radix = [u32x8::splat(m), u32x8::splat(n)];
         let mut cell = lanes_of(|l| {
             let k = first + l as u64;
@@ -111,8 +110,8 @@ impl Grid {
             let px = permute_x8(j, n, u32x8::splat(kx) + i * vstep);
             let py = permute_x8(i, m, u32x8::splat(ky) + j * vstep);
             let out = [
-                stratum_f32x8(i * vn + px, lanes[0].next_u32x8(), total, inv),
-                stratum_f32x8(j * vm + py, lanes[1].next_u32x8(), total, inv),
+                axis.point_x8(i * vn + px, lanes[0].next_u32x8()),
+                axis.point_x8(j * vm + py, lanes[1].next_u32x8()),
             ];
             advance8(&mut cell, &radix);
             out
@@ -123,15 +122,15 @@ impl Grid {
         let mut g = seed.pcg(PURPOSE).advanced(first * 2);
         let (kx, ky, step) = self.keys(seed);
         let (m, n) = (self.cols, self.rows);
-        let total = f64::from(m) * f64::from(n);
+        let axis = Strata::new(m * n);
         for t in 0..sink.len() {
             let k = first + t as u64;
             let i = (k % u64::from(m)) as u32;
             let j = (k / u64::from(m)) as u32;
             let px = permute(j, n, kx.wrapping_add(i.wrapping_mul(step)));
             let py = permute(i, m, ky.wrapping_add(j.wrapping_mul(step)));
-            let x = stratum_f32(i * n + px, g.next_u32(), total, 1.0 / total);
-            let y = stratum_f32(j * m + py, g.next_u32(), total, 1.0 / total);
+            let x = axis.point(i * n + px, g.next_u32());
+            let y = axis.point(j * m + py, g.next_u32());
             sink.put(t, [x, y]);
         }
     }

@@ -1,7 +1,7 @@
 //! N-rooks (Latin hypercube) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, drive8, stratum_f32, stratum_f32x8, MAX_STRATA};
+use super::{build, check_dims, drive8, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, permute_x8};
 use crate::rng::{Pcg32x8, Seed};
@@ -54,7 +54,7 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         let mut lanes: [Pcg32x8; D] =
             core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
         let keys = Self::keys(seed).map(u32x8::splat);
-        let (m, inv) = (f64::from(self.n), 1.0 / f64::from(self.n));
+        let axis = Strata::new(self.n);
         let n = self.n;
         // Lanes past the end (last partial block) are wrapped into [0, n) and discarded.
         let mut k = u32x8::new(core::array::from_fn(|l| {
@@ -63,7 +63,7 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         let vn = u32x8::splat(n);
         drive8(sink, || {
             let out = build(f32x8::ZERO, |j| {
-                stratum_f32x8(permute_x8(k, n, keys[j]), lanes[j].next_u32x8(), m, inv)
+                axis.point_x8(permute_x8(k, n, keys[j]), lanes[j].next_u32x8())
             });
             let mut next = k + u32x8::splat(8);
             loop {
@@ -81,11 +81,11 @@ impl<const D: usize> Generate<D> for NRooks<D> {
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
         let keys = Self::keys(seed);
-        let m = f64::from(self.n);
+        let axis = Strata::new(self.n);
         for i in 0..sink.len() {
             let k = (first + i as u64) as u32;
             let p = build(0.0, |j| {
-                stratum_f32(permute(k, self.n, keys[j]), g.next_u32(), m, 1.0 / m)
+                axis.point(permute(k, self.n, keys[j]), g.next_u32())
             });
             sink.put(i, p);
         }
