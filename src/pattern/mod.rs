@@ -145,6 +145,17 @@ pub(crate) const fn check_dims<const D: usize>(min: usize, max: usize) -> Result
     }
 }
 
+/// Checks a point count for constructors: `1 ≤ n ≤ max`.
+pub(crate) const fn check_n(n: usize, max: u64) -> Result<u64, PatternError> {
+    if n == 0 {
+        Err(PatternError::ZeroPoints)
+    } else if n as u64 > max {
+        Err(PatternError::TooManyPoints { max })
+    } else {
+        Ok(n as u64)
+    }
+}
+
 pub(crate) fn check_range(n: u64, first: usize, len: usize) -> Result<(), PatternError> {
     let end = (first as u64).checked_add(len as u64);
     match end {

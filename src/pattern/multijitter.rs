@@ -22,7 +22,7 @@
 //! Technical Memo 13-01 (2013).
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, drive8, lanes_of, Strata, MAX_STRATA};
+use super::{advance8, check_n, drive8, lanes_of, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, permute_x8};
 use crate::rng::{Pcg32x8, Seed};
@@ -58,12 +58,7 @@ impl Grid {
 
     /// `cols` = the largest divisor of `n` not above `√n`, `rows = n / cols`.
     fn new(n: usize, correlated: bool) -> Result<Self, PatternError> {
-        if n == 0 {
-            return Err(PatternError::ZeroPoints);
-        }
-        if n as u64 > MAX_STRATA {
-            return Err(PatternError::TooManyPoints { max: MAX_STRATA });
-        }
+        check_n(n, MAX_STRATA)?;
         let mut cols = libm::sqrt(n as f64) as usize;
         while cols * cols > n {
             cols -= 1;

@@ -1,7 +1,7 @@
 //! N-rooks (Latin hypercube) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, drive8, Strata, MAX_STRATA};
+use super::{build, check_dims, check_n, drive8, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, permute_x8};
 use crate::rng::{Pcg32x8, Seed};
@@ -29,13 +29,9 @@ impl<const D: usize> NRooks<D> {
     /// [`PatternError::TooManyPoints`] for `n > 2²⁴`.
     pub fn new(n: usize) -> Result<Self, PatternError> {
         check_dims::<D>(1, 3)?;
-        if n == 0 {
-            return Err(PatternError::ZeroPoints);
-        }
-        if n as u64 > MAX_STRATA {
-            return Err(PatternError::TooManyPoints { max: MAX_STRATA });
-        }
-        Ok(Self { n: n as u32 })
+        Ok(Self {
+            n: check_n(n, MAX_STRATA)? as u32,
+        })
     }
 
     fn keys(seed: Seed) -> [u32; D] {

@@ -1,7 +1,7 @@
 //! Uniform random points.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, drive8, unit_f32, unit_f32x8};
+use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
 use wide::f32x8;
@@ -27,13 +27,9 @@ impl<const D: usize> Random<D> {
     /// `1 ≤ D ≤ 3`, [`PatternError::TooManyPoints`] for `n > 2³²`.
     pub fn new(n: usize) -> Result<Self, PatternError> {
         check_dims::<D>(1, 3)?;
-        if n == 0 {
-            return Err(PatternError::ZeroPoints);
-        }
-        if n as u64 > 1 << 32 {
-            return Err(PatternError::TooManyPoints { max: 1 << 32 });
-        }
-        Ok(Self { n: n as u64 })
+        Ok(Self {
+            n: check_n(n, 1 << 32)?,
+        })
     }
 }
 
