@@ -133,8 +133,10 @@ fn header(s: &mut String, width: f64, height: f64, title: &str) {
         r#"<?xml version="1.0" encoding="UTF-8"?>
 <svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" viewBox="0 0 {width} {height}" font-family="sans-serif">
 <rect width="100%" height="100%" fill="white"/>
-<text x="{:.1}" y="26" font-size="16" text-anchor="middle">{}</text>"#,
+<text x="{:.1}" y="26" font-size="{:.1}" text-anchor="middle">{}</text>"#,
         width / 2.0,
+        // Shrink long titles to fit (a sans-serif glyph is about 0.55 em wide).
+        (0.95 * width / (0.55 * title.chars().count().max(1) as f64)).min(16.0),
         escape(title)
     );
 }
