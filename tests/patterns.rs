@@ -501,10 +501,9 @@ fn low_discrepancy_sequences_match_theory() {
         "sobol 2D not better than random: {m2}"
     );
     // Owen-scrambled Halton: every scrambled point is uniform in [0,1)^D, so the
-    // coordinate means are unbiased; and the first 2³·3³ = 216 points stratify
-    // [0,1)² into 8 × 27 boxes, one point each, so T² is at most that of jittered
-    // sampling on a 8 × 27 grid… up to the dependence between boxes; we check it is
-    // below the i.i.d. value, which any stratification of independent points meets.
+    // coordinate means are unbiased (tested below); the first 216 = 2³·3³ points put
+    // one point in each of the 8 × 27 boxes. As a sanity bound, the mean T² must not
+    // exceed the i.i.d. value E[T²_random].
     let (mh, seh) = mean_se(R, disc(&Halton::<2>::new(216).unwrap()));
     assert!(mh < random_t2(2, 216) + 4.0 * seh, "halton 2D: {mh}");
     for dim in 0..3 {
