@@ -51,12 +51,56 @@ pub enum PatternError {
         /// Points in the pattern.
         n: u64,
     },
+    /// The parameter `name` has the value `value`, outside `min..=max`.
+    Parameter {
+        /// Name of the parameter (as in the API, e.g. `"capacity"`).
+        name: &'static str,
+        /// Value given.
+        value: u64,
+        /// Smallest accepted value.
+        min: u64,
+        /// Largest accepted value.
+        max: u64,
+    },
     /// `dim` is not below the number of dimensions of the sequence (`max`).
     Dimension {
         /// Requested dimension index.
         dim: u32,
         /// Number of dimensions.
         max: u32,
+    },
+    /// `radius` is NaN, infinite, or not `> 0`.
+    Radius,
+    /// `radius` is so small that the background grid would need `cells` cells
+    /// (at most `max` are supported).
+    GridTooLarge {
+        /// Cells the grid would need (saturating).
+        cells: u64,
+        /// The largest supported number of cells.
+        max: u64,
+    },
+    /// `relative_radius` is NaN or outside `(0, 1]`.
+    RelativeRadius,
+    /// `jitter` is NaN or outside `[0, 1]`.
+    Jitter,
+    /// `candidates` (Bridson's `k`) is 0 or above `max`.
+    Candidates {
+        /// Largest accepted count.
+        max: u32,
+    },
+    /// `scratch` is shorter than needed.
+    Scratch {
+        /// Length needed.
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
+    /// Fewer points fit than were asked for.
+    Shortfall {
+        /// Points generated.
+        got: u64,
+        /// Points requested.
+        wanted: u64,
     },
 }
 
@@ -84,12 +128,40 @@ impl fmt::Display for PatternError {
                 f,
                 "first + out.len() = {first} + {len} exceeds the pattern size n = {n}"
             ),
+            PatternError::Parameter {
+                name,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "{name} = {value} is out of range (expected {min}..={max})"
+            ),
             PatternError::Dimension { dim, max } => {
                 write!(
                     f,
                     "dim = {dim} is out of range (the sequence has {max} dimensions)"
                 )
             }
+            PatternError::Radius => write!(f, "radius must be finite and > 0"),
+            PatternError::GridTooLarge { cells, max } => write!(
+                f,
+                "radius is too small: the background grid would need {cells} cells (at most {max})"
+            ),
+            PatternError::Jitter => write!(f, "jitter must be in [0, 1] (and not NaN)"),
+            PatternError::RelativeRadius => {
+                write!(f, "relative_radius must be in (0, 1]")
+            }
+            PatternError::Candidates { max } => {
+                write!(f, "candidates must be in 1..={max}")
+            }
+            PatternError::Scratch { expected, got } => {
+                write!(f, "scratch: length {got}, need at least {expected}")
+            }
+            PatternError::Shortfall { got, wanted } => write!(
+                f,
+                "n: only {got} points fit at this radius, {wanted} were requested"
+            ),
         }
     }
 }

@@ -5,8 +5,9 @@
 //! Convergence Analysis of Monte Carlo Line and Segment Sampling* (EGSR 2017,
 //! doi:10.1111/cgf.13226).
 //!
-//! This release provides the foundation: SIMD-batched, seed-deterministic sample
-//! patterns ([`pattern`]) and the random numbers behind them ([`rng`], [`hash`]).
+//! This release provides SIMD-batched, seed-deterministic sample patterns
+//! ([`pattern`], including toroidal Poisson disk and CCVT blue noise) and the
+//! random numbers behind them ([`rng`], [`hash`]).
 //!
 //! ## Quick start
 //!

@@ -25,21 +25,32 @@
 //! | [`CorrelatedMultiJittered`] (Kensler 2013) | 2 | `m·n` |
 //! | [`Sobol`] (Owen-scrambled, Burley 2020) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`Halton`] (Owen-scrambled) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
+//! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing), toroidal | 1–3 | from the radius |
+//! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | any |
 //!
 //! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
 //!   for Multiple Integration*, SIAM J. Numer. Anal. 13(6), 1976.
 
+mod ccvt;
 mod halton;
 mod jittered;
 pub mod multijitter;
 mod nrooks;
+mod poisson;
 mod random;
 mod sobol;
 
+pub use ccvt::CCVT_DEFAULT_CAPACITY;
+#[cfg(feature = "alloc")]
+pub use ccvt::{Ccvt, CcvtResult};
 pub use halton::{radical_inverse, Halton, HALTON_BASES, HALTON_DIMENSIONS};
 pub use jittered::Jittered;
 pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
 pub use nrooks::NRooks;
+pub use poisson::{
+    poisson_max_radius, PoissonDisk, PoissonMethod, BRIDSON_DEFAULT_CANDIDATES,
+    BRIDSON_MAX_CANDIDATES, POISSON_MAX_CELLS,
+};
 pub use random::Random;
 pub use sobol::{Sobol, SOBOL_DIMENSIONS};
 
