@@ -17,7 +17,8 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use linesample::pattern::{
-    CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Random, Sobol,
+    CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, PoissonDisk,
+    PoissonMethod, Random, Sobol,
 };
 use linesample::{PatternError, Seed};
 
@@ -74,6 +75,18 @@ enum Sampler {
     Halton1(Count),
     Halton2(Count),
     Halton3(Count),
+    Poisson1(PoissonInput),
+    Poisson2(PoissonInput),
+    Poisson3(PoissonInput),
+}
+
+/// Poisson-disk parameters: a radius, or a target count with a relative radius.
+#[derive(Arbitrary, Debug)]
+struct PoissonInput {
+    radius: f64,
+    target: Option<(Count, f64)>,
+    dart_throwing: bool,
+    candidates: Option<u32>,
 }
 
 #[derive(Arbitrary, Debug)]
@@ -123,8 +136,66 @@ fuzz_target!(|input: Input| {
         Sampler::Halton1(n) => run(Halton::<1>::new(n.get()), &input),
         Sampler::Halton2(n) => run(Halton::<2>::new(n.get()), &input),
         Sampler::Halton3(n) => run(Halton::<3>::new(n.get()), &input),
+        Sampler::Poisson1(ref p) => poisson::<1>(p, input.seed),
+        Sampler::Poisson2(ref p) => poisson::<2>(p, input.seed),
+        Sampler::Poisson3(ref p) => poisson::<3>(p, input.seed),
     }
 });
+
+/// Poisson disk: any parameters are accepted or rejected without a panic; small
+/// accepted sets are generated and checked (range, count bound, minimum toroidal
+/// distance ≥ r between stored points).
+fn poisson<const D: usize>(input: &PoissonInput, seed: u64) {
+    let built = match input.target {
+        Some((n, rel)) => PoissonDisk::<D>::for_n(n.get(), rel),
+        None => PoissonDisk::<D>::with_radius(input.radius),
+    };
+    let Ok(mut disk) = built else { return };
+    if input.dart_throwing {
+        disk = disk.with_method(PoissonMethod::MaximalDartThrowing);
+    }
+    if let Some(k) = input.candidates {
+        match disk.clone().with_candidates(k) {
+            Ok(d) => disk = d,
+            Err(_) => assert!(k == 0 || k > 1024, "k = {k} rejected"),
+        }
+    }
+    let r = disk.radius();
+    assert!(r.is_finite() && r > 0.0);
+    if disk.max_points() > 2000 || disk.scratch_len() > 1 << 20 {
+        return;
+    }
+    let mut scratch = vec![0u32; disk.scratch_len()];
+    let mut out = vec![[0.0f32; D]; disk.max_points()];
+    let count = disk
+        .generate(Seed::new(seed), &mut scratch, &mut out)
+        .expect("buffers of the advertised sizes are accepted");
+    assert!(count >= 1 && count <= disk.max_points());
+    let pts = &out[..count];
+    for q in pts {
+        assert!(q.iter().all(|&x| (0.0..1.0).contains(&x)), "{q:?}");
+    }
+    for (i, a) in pts.iter().enumerate() {
+        for b in &pts[i + 1..] {
+            let d2: f64 = (0..D)
+                .map(|j| {
+                    let t = (f64::from(a[j]) - f64::from(b[j])).abs();
+                    let t = t.min(1.0 - t);
+                    t * t
+                })
+                .sum();
+            assert!(
+                d2 >= r * r * (1.0 - 1e-9),
+                "points {a:?} {b:?} closer than r = {r}"
+            );
+        }
+    }
+    let small = vec![0u32; disk.scratch_len().saturating_sub(1)];
+    let mut small = small;
+    assert!(disk
+        .generate(Seed::new(seed), &mut small, &mut out)
+        .is_err());
+}
 
 /// Checks a constructed pattern (rejected parameters end the input), plain or shifted.
 fn run<const D: usize, P: Pattern<D>>(built: Result<P, PatternError>, input: &Input) {

@@ -49,7 +49,8 @@ enum Command {
     Patterns(PatternsArgs),
     /// Write every sampler in 2D and 3D with an index (the default command).
     ///
-    /// Samplers random, jittered, n-rooks, sobol and halton in 2D and 3D, and
+    /// Samplers random, jittered, n-rooks, sobol, halton, poisson-disk (maximal
+    /// dart throwing, relative radius 0.75) and ccvt in 2D and 3D, and
     /// multi-jittered and cmj in 2D (they are 2D only), all with N = 1024 points
     /// except jittered 3D, which uses N = 1000 = 10x10x10 strata. For each one it
     /// writes `OUT_DIR/<sampler>-<dims>d-<N>.txt` and `.svg`, prints a table
@@ -100,6 +101,17 @@ struct PatternsArgs {
     /// seed.
     #[arg(long)]
     shift: bool,
+
+    /// Poisson disk only: minimum distance as a fraction of the densest-packing
+    /// distance for N points (Lagae & Dutre 2008), in (0, 1].
+    #[arg(long, value_name = "R", default_value_t = 0.75)]
+    relative_radius: f64,
+
+    /// Poisson disk only: use Bridson's algorithm instead of maximal dart throwing
+    /// (Bridson is faster but not maximal, and at --relative-radius 0.75 usually
+    /// fits fewer than N points, which is an error).
+    #[arg(long)]
+    bridson: bool,
 
     /// Output path prefix; writes PREFIX.txt and PREFIX.svg, creating parent
     /// directories (default: `out/patterns/<sampler>-<dims>d-<N>`).
@@ -212,6 +224,8 @@ fn patterns(a: &PatternsArgs) -> Result<(), String> {
         strata: a.strata.clone(),
         grid: a.grid,
         shift: a.shift,
+        relative_radius: a.relative_radius,
+        dart_throwing: !a.bridson,
     };
     let r = render(&Run {
         spec: &spec,
@@ -273,6 +287,8 @@ fn gallery(a: &GalleryArgs) -> Result<(), String> {
             strata: None,
             grid: None,
             shift: false,
+            relative_radius: 0.75,
+            dart_throwing: true,
         };
         let r = render(&Run {
             spec: &spec,
@@ -329,7 +345,7 @@ mod tests {
     #[test]
     fn gallery_covers_every_sampler() {
         let e = gallery_entries();
-        assert_eq!(e.len(), 12);
+        assert_eq!(e.len(), 16);
         for s in Sampler::ALL {
             assert!(e.iter().any(|&(t, d, _)| t == s && d == 2));
         }

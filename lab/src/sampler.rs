@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 
 use clap::ValueEnum;
 use linesample::pattern::{
-    CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Random, Sobol,
+    Ccvt, CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, PoissonDisk,
+    PoissonMethod, Random, Sobol,
 };
 use linesample::{PatternError, Seed};
 
@@ -30,11 +31,16 @@ pub enum Sampler {
     Sobol,
     /// Owen-scrambled Halton, 1D to 3D.
     Halton,
+    /// Toroidal Poisson disk, 1D to 3D: N points from a maximal (or Bridson) set
+    /// with radius --relative-radius times the densest-packing radius for N.
+    PoissonDisk,
+    /// Capacity-constrained Voronoi tessellation (Balzer et al. 2009), 2D and 3D.
+    Ccvt,
 }
 
 impl Sampler {
     /// Every sampler, in the order of the gallery.
-    pub const ALL: [Sampler; 7] = [
+    pub const ALL: [Sampler; 9] = [
         Sampler::Random,
         Sampler::Jittered,
         Sampler::NRooks,
@@ -42,6 +48,8 @@ impl Sampler {
         Sampler::Cmj,
         Sampler::Sobol,
         Sampler::Halton,
+        Sampler::PoissonDisk,
+        Sampler::Ccvt,
     ];
 
     /// The command-line name (as `--sampler` accepts it).
@@ -54,6 +62,8 @@ impl Sampler {
             Sampler::Cmj => "cmj",
             Sampler::Sobol => "sobol",
             Sampler::Halton => "halton",
+            Sampler::PoissonDisk => "poisson-disk",
+            Sampler::Ccvt => "ccvt",
         }
     }
 
@@ -61,6 +71,7 @@ impl Sampler {
     pub fn dims(self) -> &'static [usize] {
         match self {
             Sampler::MultiJittered | Sampler::Cmj => &[2],
+            Sampler::Ccvt => &[2, 3],
             _ => &[1, 2, 3],
         }
     }
@@ -82,6 +93,10 @@ pub struct Spec {
     pub strata: Option<Vec<usize>>,
     pub grid: Option<(usize, usize)>,
     pub shift: bool,
+    /// Poisson disk: radius relative to the densest packing for N.
+    pub relative_radius: f64,
+    /// Poisson disk: maximal dart throwing (`true`) or Bridson.
+    pub dart_throwing: bool,
 }
 
 /// `N` when neither `-n`, `--strata` nor `--grid` says otherwise.
@@ -156,7 +171,13 @@ fn run<const D: usize>(
     for _ in 0..runs.max(1) {
         let t = Instant::now();
         p.fill(seed, std::hint::black_box(&mut buf))
-            .map_err(|e| format!("fill failed: {e}"))?;
+            .map_err(|e| match e {
+                PatternError::Shortfall { .. } => format!(
+                    "fill failed: {e}; lower --relative-radius or use maximal dart \
+                     throwing (drop --bridson)"
+                ),
+                _ => format!("fill failed: {e}"),
+            })?;
         times.push(t.elapsed());
     }
     times.sort_unstable();
@@ -208,6 +229,11 @@ pub fn build(spec: &Spec) -> Result<Built, String> {
     if spec.strata.is_some() && s != Sampler::Jittered {
         return Err(format!(
             "--strata applies only to --sampler jittered (got --sampler {s})"
+        ));
+    }
+    if s != Sampler::PoissonDisk && (spec.relative_radius != 0.75 || !spec.dart_throwing) {
+        return Err(format!(
+            "--relative-radius and --bridson apply only to --sampler poisson-disk (got --sampler {s})"
         ));
     }
     if spec.grid.is_some() && !matches!(s, Sampler::MultiJittered | Sampler::Cmj) {
@@ -271,6 +297,37 @@ where
         Sampler::NRooks => (boxed(NRooks::<D>::new(n).map_err(err)?, shift), None),
         Sampler::Sobol => (boxed(Sobol::<D>::new(n).map_err(err)?, shift), None),
         Sampler::Halton => (boxed(Halton::<D>::new(n).map_err(err)?, shift), None),
+        Sampler::PoissonDisk => {
+            let method = if spec.dart_throwing {
+                PoissonMethod::MaximalDartThrowing
+            } else {
+                PoissonMethod::Bridson
+            };
+            let disk = PoissonDisk::<D>::for_n(n, spec.relative_radius)
+                .map_err(|e| {
+                    format!(
+                        "invalid parameters for --sampler poisson-disk -n {n} \
+                         --relative-radius {}: {e}",
+                        spec.relative_radius
+                    )
+                })?
+                .with_method(method);
+            let detail = format!(
+                "r = {:.4} ({} x packing), {}",
+                disk.radius(),
+                spec.relative_radius,
+                if spec.dart_throwing {
+                    "maximal dart throwing"
+                } else {
+                    "Bridson"
+                }
+            );
+            (boxed(PoissonN { disk, n }, shift), Some(detail))
+        }
+        Sampler::Ccvt => (
+            boxed(Ccvt::<D>::new(n).map_err(err)?, shift),
+            Some("capacity 64".into()),
+        ),
         Sampler::Jittered => {
             let j = jittered::<D>(spec)?;
             let detail = strata_detail(&j.strata());
@@ -283,6 +340,79 @@ where
             ))
         }
     })
+}
+
+/// N points of a Poisson-disk set as a [`Pattern`]: each fill generates the whole
+/// set for the seed (allocating, as the lab may) and keeps a random subset of N
+/// (`PoissonDisk::generate_n_vec`); fewer than N fitting is an error that says so.
+struct PoissonN<const D: usize> {
+    disk: PoissonDisk<D>,
+    n: usize,
+}
+
+impl<const D: usize> PoissonN<D> {
+    fn points(&self, seed: Seed, first: usize, len: usize) -> Result<Vec<[f32; D]>, PatternError> {
+        if first.checked_add(len).is_none_or(|e| e > self.n) {
+            return Err(PatternError::Range {
+                first: first as u64,
+                len: len as u64,
+                n: self.n as u64,
+            });
+        }
+        let all = self.disk.generate_n_vec(self.n, seed)?;
+        Ok(all[first..first + len].to_vec())
+    }
+}
+
+impl<const D: usize> Pattern<D> for PoissonN<D> {
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    fn fill_range(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        out.copy_from_slice(&self.points(seed, first, out.len())?);
+        Ok(())
+    }
+
+    fn fill_range_scalar(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        self.fill_range(seed, first, out)
+    }
+
+    fn fill_range_soa(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: [&mut [f32]; D],
+    ) -> Result<(), PatternError> {
+        let len = out[0].len();
+        if out.iter().any(|s| s.len() != len) {
+            return Err(PatternError::OutputLength {
+                expected: len,
+                got: out
+                    .iter()
+                    .map(|s| s.len())
+                    .find(|&l| l != len)
+                    .unwrap_or(len),
+            });
+        }
+        let pts = self.points(seed, first, len)?;
+        for (j, col) in out.into_iter().enumerate() {
+            for (x, p) in col.iter_mut().zip(&pts) {
+                *x = p[j];
+            }
+        }
+        Ok(())
+    }
 }
 
 fn build_2d(spec: &Spec) -> Result<Boxed<2>, String> {

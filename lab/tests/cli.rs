@@ -271,7 +271,7 @@ fn gallery_writes_every_pattern_and_the_index() {
     let mut lines = csv.lines();
     assert_eq!(lines.next(), Some("sampler,dims,n,seed,median_us,txt,svg"));
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.len(), 12, "{csv}");
+    assert_eq!(rows.len(), 16, "{csv}");
     for r in &rows {
         assert_eq!(r.len(), 7, "{r:?}");
         let (d, n): (usize, usize) = (r[1].parse().unwrap(), r[2].parse().unwrap());
@@ -281,7 +281,14 @@ fn gallery_writes_every_pattern_and_the_index() {
         let per_point = if d == 3 { 3 } else { 1 };
         assert_eq!(circles(&dir.path().join("g").join(r[6])), n * per_point);
     }
-    for (s, d) in [("multi-jittered", "2"), ("cmj", "2"), ("jittered", "3")] {
+    for (s, d) in [
+        ("multi-jittered", "2"),
+        ("cmj", "2"),
+        ("jittered", "3"),
+        ("poisson-disk", "3"),
+        ("ccvt", "2"),
+        ("ccvt", "3"),
+    ] {
         assert!(
             rows.iter().any(|r| r[0] == s && r[1] == d),
             "{s} {d}D missing"
@@ -290,7 +297,7 @@ fn gallery_writes_every_pattern_and_the_index() {
     assert!(!rows.iter().any(|r| r[0] == "cmj" && r[1] == "3"));
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("median"), "{stdout}");
-    assert_eq!(stdout.lines().filter(|l| l.contains(".svg")).count(), 12);
+    assert_eq!(stdout.lines().filter(|l| l.contains(".svg")).count(), 16);
 }
 
 #[test]
@@ -323,4 +330,65 @@ fn help_describes_the_formats() {
     ] {
         assert!(h.contains(s), "help lacks {s}");
     }
+}
+
+#[test]
+fn poisson_disk_and_ccvt_patterns() {
+    let dir = TempDir::new("blue");
+    let o = lab(
+        &dir,
+        &[
+            "patterns",
+            "--sampler",
+            "poisson-disk",
+            "-n",
+            "200",
+            "--out",
+            "pd",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_points(&dir.path().join("pd.txt"), 200, 2);
+    let o = lab(
+        &dir,
+        &[
+            "patterns",
+            "--sampler",
+            "ccvt",
+            "--dims",
+            "3",
+            "-n",
+            "64",
+            "--out",
+            "cv",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    check_points(&dir.path().join("cv.txt"), 64, 3);
+    // Bridson at the densest relative radius cannot fit N points: a clear error.
+    let o = lab(
+        &dir,
+        &[
+            "patterns",
+            "--sampler",
+            "poisson-disk",
+            "-n",
+            "200",
+            "--relative-radius",
+            "1",
+            "--bridson",
+            "--out",
+            "bad",
+        ],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("relative-radius"), "{}", stderr(&o));
+    assert!(!dir.path().join("bad.txt").exists());
+    // Options of other samplers are rejected.
+    let o = lab(
+        &dir,
+        &["patterns", "--sampler", "random", "--bridson", "--out", "r"],
+    );
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("--bridson"), "{}", stderr(&o));
 }
