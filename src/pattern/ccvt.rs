@@ -18,7 +18,7 @@ pub const CCVT_DEFAULT_CAPACITY: usize = 64;
 mod imp {
     use crate::error::PatternError;
     use crate::pattern::sealed::{Generate, Sink};
-    use crate::pattern::{check_dims, check_n, unit_f64, ONE_MINUS_EPSILON};
+    use crate::pattern::{check_dims, check_n, odometer_step, unit_f64, ONE_MINUS_EPSILON};
     use crate::rng::{Pcg32, Seed};
     use alloc::vec;
     use alloc::vec::Vec;
@@ -632,17 +632,8 @@ mod imp {
                                 }
                             }
                         }
-                        let mut j = 0;
-                        loop {
-                            idx[j] += 1;
-                            if idx[j] < w {
-                                break;
-                            }
-                            idx[j] = 0;
-                            j += 1;
-                            if j == D {
-                                break 'cells;
-                            }
+                        if !odometer_step(&mut idx, &[w; D]) {
+                            break 'cells;
                         }
                     }
                     if w >= g || (best.is_finite() && best <= (r as f64 * h).powi(2)) {
@@ -699,17 +690,8 @@ mod imp {
                     cell = cell * self.g + (lo[j] + idx[j]).rem_euclid(g) as usize;
                 }
                 self.scratch_cells.push(cell);
-                let mut j = 0;
-                loop {
-                    idx[j] += 1;
-                    if idx[j] < len[j] {
-                        break;
-                    }
-                    idx[j] = 0;
-                    j += 1;
-                    if j == D {
-                        return;
-                    }
+                if !odometer_step(&mut idx, &len) {
+                    return;
                 }
             }
         }

@@ -1,7 +1,7 @@
 //! Jittered (stratified) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, build, check_dims, drive8, lanes_of, Strata, MAX_STRATA};
+use super::{advance8, build, check_dims, drive8, lanes_of, odometer_step, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::rng::{Pcg32x8, Seed};
 use wide::{f32x8, u32x8};
@@ -133,13 +133,7 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         for i in 0..sink.len() {
             let p = build(0.0, |j| axes[j].point(cell[j], g.next_u32()));
             sink.put(i, p);
-            for j in 0..D {
-                cell[j] += 1;
-                if cell[j] < self.strata[j] {
-                    break;
-                }
-                cell[j] = 0;
-            }
+            odometer_step(&mut cell, &self.strata);
         }
     }
 }

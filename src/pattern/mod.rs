@@ -560,6 +560,24 @@ pub(crate) fn advance8<const D: usize>(cell: &mut [wide::u32x8; D], m: &[wide::u
     }
 }
 
+/// Advances the mixed-radix counter `digits` by one (digit 0 fastest, digit `j` in
+/// `[0, radix[j])`). Returns `false`, with every digit back at 0, when it wraps
+/// past its last value.
+#[inline(always)]
+pub(crate) fn odometer_step<T, const D: usize>(digits: &mut [T; D], radix: &[T; D]) -> bool
+where
+    T: Copy + PartialOrd + core::ops::AddAssign + From<u8>,
+{
+    for j in 0..D {
+        digits[j] += T::from(1);
+        if digits[j] < radix[j] {
+            return true;
+        }
+        digits[j] = T::from(0);
+    }
+    false
+}
+
 /// `[f(0), …, f(D−1)]`, always inlined (unlike `core::array::from_fn`, whose
 /// closure call is not always inlined in hot loops).
 #[inline(always)]

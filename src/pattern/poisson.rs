@@ -1,6 +1,6 @@
 //! Poisson-disk sampling on the unit torus: [`PoissonDisk`].
 
-use super::{check_dims, unit_f32, ONE_MINUS_EPSILON};
+use super::{check_dims, odometer_step, unit_f32, ONE_MINUS_EPSILON};
 use crate::error::PatternError;
 use crate::hash::permute;
 use crate::rng::{Pcg32, Seed};
@@ -634,18 +634,8 @@ impl<const D: usize> State<'_, D> {
                     return true;
                 }
             }
-            // odometer
-            let mut j = 0;
-            loop {
-                t[j] += 1;
-                if t[j] < span {
-                    break;
-                }
-                t[j] = 0;
-                j += 1;
-                if j == D {
-                    return false;
-                }
+            if !odometer_step(&mut t, &[span; D]) {
+                return false;
             }
         }
     }
