@@ -185,3 +185,115 @@ impl fmt::Display for SeedError {
 }
 
 impl core::error::Error for SeedError {}
+
+/// Invalid parameter of an integrand, a primitive (direction, segment, line) or an
+/// estimator. Every message names the parameter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum ParamError {
+    /// `name` is NaN or infinite.
+    NonFinite {
+        /// Parameter name.
+        name: &'static str,
+    },
+    /// `name = value` is outside `[min, max]`.
+    OutOfRange {
+        /// Parameter name.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// Smallest accepted value.
+        min: f64,
+        /// Largest accepted value.
+        max: f64,
+    },
+    /// A direction vector is zero (or all its components underflow when normalised).
+    ZeroDirection,
+    /// The dimension `D` is not supported by this type.
+    Dimension {
+        /// The requested dimension.
+        dim: usize,
+    },
+    /// A slice argument `name` has the wrong length.
+    Length {
+        /// Parameter name.
+        name: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Actual length.
+        got: usize,
+    },
+    /// A count `name` is zero or does not divide evenly.
+    Count {
+        /// Parameter name.
+        name: &'static str,
+        /// The rejected value.
+        value: usize,
+    },
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            ParamError::NonFinite { name } => write!(f, "{name} must be finite (got NaN or ±∞)"),
+            ParamError::OutOfRange {
+                name,
+                value,
+                min,
+                max,
+            } => write!(
+                f,
+                "{name} = {value} is out of range (expected {min}..={max})"
+            ),
+            ParamError::ZeroDirection => {
+                write!(f, "direction must be a non-zero finite vector")
+            }
+            ParamError::Dimension { dim } => {
+                write!(f, "dimension D = {dim} is not supported (expected 2 or 3)")
+            }
+            ParamError::Length {
+                name,
+                expected,
+                got,
+            } => write!(f, "{name}: length {got}, expected {expected}"),
+            ParamError::Count { name, value } => {
+                write!(f, "{name} = {value} is not a valid count")
+            }
+        }
+    }
+}
+
+impl core::error::Error for ParamError {}
+
+/// Why an estimate could not be computed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum EstimateError {
+    /// The pattern rejected the request.
+    Pattern(PatternError),
+    /// An estimator or primitive parameter is invalid.
+    Param(ParamError),
+}
+
+impl fmt::Display for EstimateError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            EstimateError::Pattern(e) => write!(f, "pattern: {e}"),
+            EstimateError::Param(e) => e.fmt(f),
+        }
+    }
+}
+
+impl core::error::Error for EstimateError {}
+
+impl From<PatternError> for EstimateError {
+    fn from(e: PatternError) -> Self {
+        EstimateError::Pattern(e)
+    }
+}
+
+impl From<ParamError> for EstimateError {
+    fn from(e: ParamError) -> Self {
+        EstimateError::Param(e)
+    }
+}

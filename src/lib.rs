@@ -66,11 +66,15 @@ extern crate alloc;
 extern crate std;
 
 pub mod error;
+pub mod geom;
 pub mod hash;
+pub mod integrand;
 pub mod pattern;
+pub mod primitive;
 pub mod rng;
+mod simd;
 
-pub use error::{PatternError, SeedError};
+pub use error::{EstimateError, ParamError, PatternError, SeedError};
 pub use rng::{Pcg32, Seed};
 
 /// The README's code examples, compiled and run as doc tests.

@@ -1,0 +1,188 @@
+//! Sample primitives: segments and lines (`f64`, validated), and the `f32`
+//! structure-of-arrays ray batch taken by the SIMD closed forms.
+//!
+//! * A [`Segment`] is `{c + t·ω : t ∈ [−λ/2, λ/2]}` on the unit torus: it wraps
+//!   around the period, so a segment longer than 1 passes some cells several
+//!   times (Singh et al. 2017, §2.3 of `paper-notes.md`: wrapping keeps the
+//!   segment estimator unbiased for any centre density).
+//! * A [`Line`] is `{p + t·ω}` restricted to the unit box `[0, 1]^D`
+//!   (`DESIGN.md`: a line in a general direction does not close on the torus).
+//!   For an axis direction the chord of the box is one full period, so the box
+//!   line and the torus line coincide.
+
+use crate::error::ParamError;
+use crate::geom::{Direction, MAX_SEGMENT_LENGTH};
+
+/// A segment of length `λ` centred at `c` with direction `ω`, wrapped on the
+/// unit torus.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment<const D: usize> {
+    centre: [f64; D],
+    dir: Direction<D>,
+    length: f64,
+}
+
+impl<const D: usize> Segment<D> {
+    /// A segment. The centre may lie outside `[0, 1)^D` (it is taken modulo 1 by
+    /// the integrands, exactly).
+    ///
+    /// # Errors
+    /// [`ParamError::NonFinite`] (`centre`, `length`),
+    /// [`ParamError::OutOfRange`] (`length`) unless `0 ≤ λ ≤`
+    /// [`MAX_SEGMENT_LENGTH`].
+    pub fn new(centre: [f64; D], dir: Direction<D>, length: f64) -> Result<Self, ParamError> {
+        if centre.iter().any(|x| !x.is_finite()) {
+            return Err(ParamError::NonFinite { name: "centre" });
+        }
+        if !length.is_finite() {
+            return Err(ParamError::NonFinite { name: "length" });
+        }
+        if !(0.0..=MAX_SEGMENT_LENGTH).contains(&length) {
+            return Err(ParamError::OutOfRange {
+                name: "length",
+                value: length,
+                min: 0.0,
+                max: MAX_SEGMENT_LENGTH,
+            });
+        }
+        Ok(Self {
+            centre,
+            dir,
+            length,
+        })
+    }
+
+    /// Centre `c`.
+    #[inline]
+    #[must_use]
+    pub fn centre(&self) -> [f64; D] {
+        self.centre
+    }
+
+    /// Direction `ω`.
+    #[inline]
+    #[must_use]
+    pub fn dir(&self) -> Direction<D> {
+        self.dir
+    }
+
+    /// Length `λ` (in units of the parameter `t`).
+    #[inline]
+    #[must_use]
+    pub fn length(&self) -> f64 {
+        self.length
+    }
+}
+
+/// A line `{p + t·ω}`, integrated over its chord of the unit box `[0, 1]^D`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line<const D: usize> {
+    point: [f64; D],
+    dir: Direction<D>,
+}
+
+impl<const D: usize> Line<D> {
+    /// The line through `point` with direction `dir`.
+    ///
+    /// # Errors
+    /// [`ParamError::NonFinite`] (`point`).
+    pub fn new(point: [f64; D], dir: Direction<D>) -> Result<Self, ParamError> {
+        if point.iter().any(|x| !x.is_finite()) {
+            return Err(ParamError::NonFinite { name: "point" });
+        }
+        Ok(Self { point, dir })
+    }
+
+    /// The torus line along `axis` whose other coordinates are `offset`
+    /// (in increasing axis order), e.g. in 3D `axis = 2`, `offset = [x, y]`.
+    /// Offsets are taken modulo 1 (exactly), as on the torus.
+    ///
+    /// # Errors
+    /// [`ParamError::OutOfRange`] (`axis`), [`ParamError::Length`] (`offset`
+    /// must have `D − 1` entries), [`ParamError::NonFinite`] (`offset`).
+    pub fn axis(axis: usize, offset: &[f64]) -> Result<Self, ParamError> {
+        let dir = Direction::axis(axis)?;
+        if offset.iter().any(|x| !x.is_finite()) {
+            return Err(ParamError::NonFinite { name: "offset" });
+        }
+        if offset.len() + 1 != D {
+            return Err(ParamError::Length {
+                name: "offset",
+                expected: D - 1,
+                got: offset.len(),
+            });
+        }
+        let mut p = [0.0; D];
+        let mut k = 0;
+        for j in 0..D {
+            if j != axis {
+                p[j] = crate::geom::frac(offset[k]);
+                k += 1;
+            }
+        }
+        Self::new(p, dir)
+    }
+
+    /// A point on the line.
+    #[inline]
+    #[must_use]
+    pub fn point(&self) -> [f64; D] {
+        self.point
+    }
+
+    /// Direction `ω`.
+    #[inline]
+    #[must_use]
+    pub fn dir(&self) -> Direction<D> {
+        self.dir
+    }
+}
+
+/// A structure-of-arrays batch of `f32` rays `o + t·ω`, `t ∈ [t0, t1]`, for the
+/// SIMD free-space closed forms (`*_batch_f32` methods of the integrands).
+///
+/// All slices must have the same length (checked by the batch functions). `t0`
+/// may be `−∞` and `t1` may be `+∞` (a full line). Directions are used as given:
+/// the integral is over the parameter `t`, so pass unit vectors for arc length.
+#[derive(Clone, Copy, Debug)]
+pub struct Rays32<'a, const D: usize> {
+    /// Origins, one slice per coordinate.
+    pub origin: [&'a [f32]; D],
+    /// Directions, one slice per coordinate.
+    pub dir: [&'a [f32]; D],
+    /// Start parameters.
+    pub t0: &'a [f32],
+    /// End parameters (`t1 ≥ t0`).
+    pub t1: &'a [f32],
+}
+
+impl<const D: usize> Rays32<'_, D> {
+    /// Number of rays, after checking that every slice (and `out`, of length
+    /// `out_len`) has the same length.
+    ///
+    /// # Errors
+    /// [`ParamError::Length`] naming the first slice that differs.
+    pub fn check(&self, out_len: usize) -> Result<usize, ParamError> {
+        let n = self.t0.len();
+        let bad = |name, got| ParamError::Length {
+            name,
+            expected: n,
+            got,
+        };
+        for j in 0..D {
+            if self.origin[j].len() != n {
+                return Err(bad("origin", self.origin[j].len()));
+            }
+            if self.dir[j].len() != n {
+                return Err(bad("dir", self.dir[j].len()));
+            }
+        }
+        if self.t1.len() != n {
+            return Err(bad("t1", self.t1.len()));
+        }
+        if out_len != n {
+            return Err(bad("out", out_len));
+        }
+        Ok(n)
+    }
+}
