@@ -45,6 +45,12 @@ impl<const D: usize> Direction<D> {
         Ok(Self { v: s })
     }
 
+    /// A vector the caller knows to be finite and unit up to rounding.
+    #[inline]
+    pub(crate) fn from_unit(v: [f64; D]) -> Self {
+        Self { v }
+    }
+
     /// The unit vector along `axis` (`e_axis`).
     ///
     /// # Errors

@@ -66,6 +66,7 @@ extern crate alloc;
 extern crate std;
 
 pub mod error;
+pub mod estimator;
 pub mod geom;
 pub mod hash;
 pub mod integrand;
@@ -73,6 +74,7 @@ pub mod pattern;
 pub mod primitive;
 pub mod rng;
 mod simd;
+pub mod stats;
 
 pub use error::{EstimateError, ParamError, PatternError, SeedError};
 pub use rng::{Pcg32, Seed};

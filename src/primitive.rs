@@ -52,6 +52,17 @@ impl<const D: usize> Segment<D> {
         })
     }
 
+    /// A segment from parameters the caller has validated (finite centre,
+    /// `0 ≤ λ ≤ MAX_SEGMENT_LENGTH`).
+    #[inline]
+    pub(crate) fn from_parts(centre: [f64; D], dir: Direction<D>, length: f64) -> Self {
+        Self {
+            centre,
+            dir,
+            length,
+        }
+    }
+
     /// Centre `c`.
     #[inline]
     #[must_use]
@@ -121,6 +132,12 @@ impl<const D: usize> Line<D> {
             }
         }
         Self::new(p, dir)
+    }
+
+    /// A line from a point the caller knows to be finite.
+    #[inline]
+    pub(crate) fn from_parts(point: [f64; D], dir: Direction<D>) -> Self {
+        Self { point, dir }
     }
 
     /// A point on the line.
