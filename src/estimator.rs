@@ -167,7 +167,7 @@ fn random_direction<const D: usize>(seed: Seed, k: usize) -> Direction<D> {
 
 fn check_groups<const D: usize>(dirs: &Directions<'_, D>) -> Result<usize, ParamError> {
     match dirs {
-        Directions::Groups(g) if g.is_empty() => Err(ParamError::Count {
+        Directions::Groups([]) => Err(ParamError::Count {
             name: "directions",
             value: 0,
         }),

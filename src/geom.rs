@@ -113,8 +113,7 @@ impl<const D: usize> Direction<D> {
         // orthogonal axes first), twice for accuracy.
         let mut order: [usize; D] = core::array::from_fn(|j| j);
         order.sort_by(|&a, &b| self.v[a].abs().total_cmp(&self.v[b].abs()));
-        let mut r = 0;
-        for &j in order.iter() {
+        for (r, &j) in order.iter().enumerate() {
             if r == D - 1 {
                 break;
             }
@@ -134,7 +133,6 @@ impl<const D: usize> Direction<D> {
                 *x /= n;
             }
             rows[r] = u;
-            r += 1;
         }
         rows
     }
@@ -183,6 +181,9 @@ pub mod dd {
         pub lo: f64,
     }
 
+    // Named methods rather than operator traits: each one documents its
+    // accuracy, and `a.add(b)` reads as the double-double operation it is.
+    #[allow(clippy::should_implement_trait)]
     impl Dd {
         /// The exact value `x`.
         #[inline(always)]
