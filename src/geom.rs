@@ -112,7 +112,7 @@ impl<const D: usize> Direction<D> {
         // Gram–Schmidt against the axes in order of increasing |ω_j| (the most
         // orthogonal axes first), twice for accuracy.
         let mut order: [usize; D] = core::array::from_fn(|j| j);
-        order.sort_by(|&a, &b| self.v[a].abs().total_cmp(&self.v[b].abs()));
+        order.sort_unstable_by(|&a, &b| self.v[a].abs().total_cmp(&self.v[b].abs()));
         for (r, &j) in order.iter().enumerate() {
             if r == D - 1 {
                 break;
