@@ -296,6 +296,9 @@ pub const MAX_SEGMENT_LENGTH: f64 = 1_048_576.0;
 /// Amanatides & Woo (1987) cell traversal; the crossing parameters are recomputed
 /// from `c` and `m` at every step (no accumulated drift). Pieces are visited in
 /// increasing `t`, their number is at most `⌈(t_hi − t_lo)·Σ|ω_j|⌉ + D + 1`.
+/// The origin `c − m` is rounded to the nearest double (error ≤ ulp(|m| + 1)/2
+/// per coordinate); integrands that need more (a Gaussian with tiny σ) rebuild
+/// it exactly.
 /// The caller guarantees finite `c`, `t_lo ≤ t_hi` and `t_hi − t_lo ≤`
 /// [`MAX_SEGMENT_LENGTH`].
 pub fn for_each_piece<const D: usize>(
@@ -354,9 +357,11 @@ pub fn for_each_piece<const D: usize>(
     }
 }
 
-/// `x − ⌊x⌋ ∈ [0, 1)`, exact for every finite `x` (the fractional part of a
-/// double is a double). Returns `0` where rounding would give `1` (never for
-/// exact subtraction, kept as a guard).
+/// `x − ⌊x⌋ ∈ [0, 1)`. Exact for `x ≥ 0` (the fractional part of a
+/// non-negative double is a double); for negative non-integral `x` the
+/// subtraction rounds (error ≤ 2⁻⁵⁴), and a result that would round to `1`
+/// (e.g. `x = −1e−20`) is returned as `0`. Closed forms that need the exact
+/// offset form `x − c` themselves.
 #[inline(always)]
 #[must_use]
 pub fn frac(x: f64) -> f64 {

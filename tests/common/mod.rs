@@ -1,7 +1,7 @@
 //! Shared test references: adaptive Gauss–Kronrod quadrature (G7–K15, Piessens
 //! et al., QUADPACK 1983; nodes and weights from Kronrod 1965 as tabulated there),
 //! written here so the closed forms are checked against an independent method.
-#![allow(dead_code)]
+#![allow(dead_code, clippy::excessive_precision)]
 
 /// Kronrod abscissae `x_k` (positive half; index 1, 3, 5 are the Gauss nodes).
 const XK: [f64; 8] = [
