@@ -73,6 +73,7 @@ pub mod pattern;
 pub mod primitive;
 pub mod rng;
 mod simd;
+pub mod special;
 
 pub use error::{EstimateError, ParamError, PatternError, SeedError};
 pub use rng::{Pcg32, Seed};
