@@ -47,8 +47,6 @@ const TAIL: f64 = 45.0;
 
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
-/// `√(π/2)`.
-const SQRT_PI_2: f64 = 1.2533141373155003;
 /// `√π/2`.
 const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
 
@@ -76,7 +74,7 @@ pub struct Gaussian<const D: usize> {
     two_s2: Dd,
     /// `(2πσ²)^{−D/2}`.
     norm: f64,
-    /// `(2πσ²)^{−D/2} · σ√2 · √π/2 = (2πσ²)^{−D/2} σ √(π/2)`.
+    /// `(2πσ²)^{−D/2} · σ√2` (the prefactor of `G`).
     line_norm: f64,
     /// `2π²σ²` as a double-double.
     two_pi2_s2: Dd,
@@ -128,9 +126,9 @@ impl<const D: usize> Gaussian<D> {
             1.0 / (TAU * libm::sqrt(TAU) * (sigma * sigma * sigma))
         };
         let line_norm = if D == 2 {
-            SQRT_PI_2 / (TAU * sigma)
+            SQRT_2 / (TAU * sigma)
         } else {
-            SQRT_PI_2 / (TAU * libm::sqrt(TAU) * (sigma * sigma))
+            SQRT_2 / (TAU * libm::sqrt(TAU) * (sigma * sigma))
         };
         let mut g = Self {
             centre: c,
@@ -467,7 +465,7 @@ impl<const D: usize> Gaussian<D> {
             c_lo,
             inv_s2: (1.0 / (self.sigma * SQRT_2)) as f32,
             inv_2s2: (1.0 / self.two_s2.hi) as f32,
-            k: self.line_norm as f32,
+            k: (self.line_norm * SQRT_PI_HALF) as f32,
         }
     }
 }
