@@ -368,8 +368,9 @@ impl<const D: usize> Gaussian<D> {
         }
     }
 
-    /// Periodised integral over the piece by real-space images.
-    fn piece_images(&self, p: &[f64; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+    /// Periodised integral over the piece `c + q + tω`, `t ∈ [t0, t1]`, by
+    /// real-space images; `q` (the piece origin minus the centre) is exact.
+    fn piece_images(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
         if !(t1 - t0).is_finite() {
             return f64::INFINITY;
         }
@@ -377,8 +378,9 @@ impl<const D: usize> Gaussian<D> {
         let mut hi = [0.0; D];
         let mut dn2 = 0.0;
         for j in 0..D {
-            let xa = p[j] + t0 * w[j];
-            let xb = p[j] + t1 * w[j];
+            let pj = self.centre[j] + q[j].to_f64();
+            let xa = pj + t0 * w[j];
+            let xb = pj + t1 * w[j];
             lo[j] = xa.min(xb) - 1e-12;
             hi[j] = xa.max(xb) + 1e-12;
             // Largest distance to the nearest image of c_j over [lo, hi].
@@ -403,10 +405,6 @@ impl<const D: usize> Gaussian<D> {
             mlo[j] = libm::floor(lo[j] - self.centre[j] - r) as i64;
             mhi[j] = libm::ceil(hi[j] - self.centre[j] + r) as i64;
         }
-        let mut q = [Dd::new(0.0); D];
-        for j in 0..D {
-            q[j] = Dd::diff(p[j], self.centre[j]);
-        }
         let mut m = mlo;
         let mut sum = 0.0;
         loop {
@@ -417,7 +415,7 @@ impl<const D: usize> Gaussian<D> {
                 d2 += d * d;
             }
             if d2 <= r2 {
-                let mut qm = q;
+                let mut qm = *q;
                 for j in 0..D {
                     qm[j] = q[j].sub(Dd::new(m[j] as f64));
                 }
@@ -728,7 +726,11 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             let delta = self.mid_delta(p, &w, t0, t1);
             return self.fourier_segment(&delta, &w, t1 - t0);
         }
-        self.piece_images(p, &w, t0, t1)
+        let mut q = [Dd::new(0.0); D];
+        for j in 0..D {
+            q[j] = Dd::diff(p[j], self.centre[j]);
+        }
+        self.piece_images(&q, &w, t0, t1)
     }
 
     /// The periodised value at the centre (`max f`).
@@ -786,17 +788,31 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             }
             return self.fourier_segment(&delta, &dir.get(), len);
         }
+        // As the provided method, but with each piece's origin `c − m` (which
+        // `for_each_piece` rounds) rebuilt exactly as a double-double.
+        let w = dir.get();
+        let mut cq = [Dd::new(0.0); D];
+        for j in 0..D {
+            cq[j] = Dd::diff(c[j], self.centre[j]);
+        }
         let half = 0.5 * len;
         let mut sum = 0.0;
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
-            sum += self.piece_integral(p, &dir, a, b);
+            let mut q = cq;
+            for j in 0..D {
+                q[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+            }
+            if a < b {
+                sum += self.piece_images(&q, &w, a, b);
+            }
         });
         sum
     }
 
     /// The integral over the chord of the unit box: for `σ > 0.3` the chord is
     /// a segment of the periodised function and the Fourier series is used;
-    /// otherwise as the provided method (one piece).
+    /// otherwise the real-space image sum over the chord (one piece, with the
+    /// offset `p − c` exact).
     fn line_integral(&self, line: &Line<D>) -> f64 {
         let dir = line.dir();
         let p = line.point();
@@ -808,13 +824,13 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             let delta = self.mid_delta(&p, &w, t0, t1);
             return self.fourier_segment(&delta, &w, t1 - t0);
         }
-        let tm = 0.5 * (t0 + t1);
-        let mut q = [0.0; D];
+        // One piece, with the exact offset p − c (no re-basing needed: the
+        // closed form works with t − t_c in double-double).
+        let mut q = [Dd::new(0.0); D];
         for j in 0..D {
-            q[j] = (p[j] + tm * w[j]).clamp(0.0, 1.0);
+            q[j] = Dd::diff(p[j], self.centre[j]);
         }
-        let h = 0.5 * (t1 - t0);
-        self.piece_integral(&q, &dir, -h, h)
+        self.piece_images(&q, &w, t0, t1)
     }
 }
 
