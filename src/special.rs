@@ -108,7 +108,7 @@ pub fn gauss_mid(m: f64, h: f64) -> f64 {
     while k < 80 {
         let dn = (mh2 * dk + h2 * dkm1) / (k as f64 + 1.0); // d_{k+1}
         k += 1;
-        if k % 2 == 0 {
+        if k.is_multiple_of(2) {
             sum += dn / (k as f64 + 1.0);
         }
         dkm1 = dk;

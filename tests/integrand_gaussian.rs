@@ -4,6 +4,8 @@
 //! reference keeps relative accuracy in the far tail), brute-force image sums,
 //! and high-precision constants computed offline with mpmath (50 digits).
 
+#![allow(clippy::excessive_precision, clippy::needless_range_loop)]
+
 mod common;
 
 use common::{integrate, rel_err};
@@ -1055,4 +1057,51 @@ fn bad_input_is_rejected() {
     let _ = g.segment_free_f32([0.0, 0.0], [0.0, 0.0], 0.0, 1.0);
     let v = g.segment_free_f32([0.5, 0.5], [1.0, 0.0], 1.0, -1.0);
     assert!(v < 0.0);
+}
+
+/// Throughput of the f32 batch against the f64 scalar path (informative; run
+/// with `--ignored --nocapture`, ideally in release).
+#[test]
+#[ignore]
+fn f32_throughput() {
+    let g = Gaussian::<3>::new([0.3, 0.6, 0.9], 0.05).unwrap();
+    let n = 4096;
+    let b = make_batch(&g, n, 5);
+    let mut out = vec![0.0f32; n];
+    let reps = 200;
+    let t = std::time::Instant::now();
+    for _ in 0..reps {
+        g.segment_free_batch_f32(&rays(&b), &mut out).unwrap();
+        std::hint::black_box(&out);
+    }
+    let tf = t.elapsed().as_secs_f64() / (reps * n) as f64;
+    let dirs: Vec<Direction<3>> = (0..n)
+        .map(|i| {
+            unit([
+                f64::from(b.d[0][i]),
+                f64::from(b.d[1][i]),
+                f64::from(b.d[2][i]),
+            ])
+        })
+        .collect();
+    let t = std::time::Instant::now();
+    let mut acc = 0.0;
+    for _ in 0..reps {
+        for i in 0..n {
+            let p = [
+                f64::from(b.o[0][i]),
+                f64::from(b.o[1][i]),
+                f64::from(b.o[2][i]),
+            ];
+            acc += g.segment_free(&p, &dirs[i], f64::from(b.t0[i]), f64::from(b.t1[i]));
+        }
+    }
+    std::hint::black_box(acc);
+    let td = t.elapsed().as_secs_f64() / (reps * n) as f64;
+    println!(
+        "f32 batch {:.2} ns/ray, f64 scalar {:.2} ns/ray, speed-up {:.1}×",
+        tf * 1e9,
+        td * 1e9,
+        td / tf
+    );
 }

@@ -26,20 +26,9 @@ use crate::special::{dd_div, erfcx, exp_neg_dd, frac_centered, gauss_mid, sinc_d
 use core::f64::consts::{PI, SQRT_2, TAU};
 use wide::f32x8;
 
-/// Smallest accepted `σ`.
-pub const SIGMA_MIN: f64 = 1e-6;
-/// Largest accepted `σ`.
-pub const SIGMA_MAX: f64 = 1e6;
-/// For `σ ≤ SIGMA_SWITCH` the periodisation is summed over real-space images,
-/// above it over Fourier modes (theta series).
-///
-/// At `σ = 0.3` both are cheap and accurate: a 1D image sum needs `|n| ≤ 4`
-/// and the theta series `k ≤ 5`; along segments the real-space sum visits about
-/// `(4π/3)(9.5σ)³ ≈ 80` images per piece in 3D and the Fourier series about
-/// 270 modes per segment (independent of its length), whose relative rounding
-/// error is amplified by at most `max Σ|terms| / min f ≈ 8` there (it grows
-/// quickly below `σ ≈ 0.25`).
-pub const SIGMA_SWITCH: f64 = 0.3;
+const SIGMA_MIN: f64 = Gaussian::<2>::SIGMA_MIN;
+const SIGMA_MAX: f64 = Gaussian::<2>::SIGMA_MAX;
+const SIGMA_SWITCH: f64 = Gaussian::<2>::SIGMA_SWITCH;
 
 /// Truncation threshold: terms below `e^{−TAIL}` relative to the leading term
 /// are dropped (`e^{−45} ≈ 2.9e−20`).
@@ -53,9 +42,9 @@ const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
 /// The normalised isotropic Gaussian density `(2πσ²)^{−D/2} e^{−|x−c|²/2σ²}`
 /// (`D` = 2 or 3), periodised on the unit torus.
 ///
-/// * `σ ∈ [1e−6, 1e6]` ([`SIGMA_MIN`], [`SIGMA_MAX`]); the centre is stored
+/// * `σ ∈ [1e−6, 1e6]` ([`Gaussian::SIGMA_MIN`], [`Gaussian::SIGMA_MAX`]); the centre is stored
 ///   modulo 1.
-/// * Periodisation: for `σ ≤` [`SIGMA_SWITCH`] (`0.3`) point values are
+/// * Periodisation: for `σ ≤` [`Gaussian::SIGMA_SWITCH`] (`0.3`) point values are
 ///   products of 1D real-space image sums and [`Integrand::piece_integral`]
 ///   sums the free-space closed form over the images whose Gaussian can
 ///   contribute more than `e^{−45}` relative to the nearest image anywhere on
@@ -82,6 +71,21 @@ pub struct Gaussian<const D: usize> {
 }
 
 impl<const D: usize> Gaussian<D> {
+    /// Smallest accepted `σ`.
+    pub const SIGMA_MIN: f64 = 1e-6;
+    /// Largest accepted `σ`.
+    pub const SIGMA_MAX: f64 = 1e6;
+    /// For `σ ≤ SIGMA_SWITCH` the periodisation is summed over real-space images,
+    /// above it over Fourier modes (theta series).
+    ///
+    /// At `σ = 0.3` both are cheap and accurate: a 1D image sum needs `|n| ≤ 4`
+    /// and the theta series `k ≤ 5`; along segments the real-space sum visits about
+    /// `(4π/3)(9.5σ)³ ≈ 80` images per piece in 3D and the Fourier series about
+    /// 270 modes per segment (independent of its length), whose relative rounding
+    /// error is amplified by at most `max Σ|terms| / min f ≈ 8` there (it grows
+    /// quickly below `σ ≈ 0.25`).
+    pub const SIGMA_SWITCH: f64 = 0.3;
+
     /// The normalised Gaussian of standard deviation `sigma` centred at
     /// `centre` (any finite point; stored modulo 1).
     ///
