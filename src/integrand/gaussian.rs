@@ -253,14 +253,9 @@ impl<const D: usize> Gaussian<D> {
     /// `x_j − c_j` reduced to about `[−1/2, 1/2]`, in double-double.
     #[inline]
     fn reduced_offset(&self, x: f64, j: usize) -> Dd {
-        let d = Dd::diff(frac(x), self.centre[j]); // in (−1, 1), exact
-        if d.hi > 0.5 {
-            d.sub(Dd::new(1.0))
-        } else if d.hi < -0.5 {
-            d.add(Dd::new(1.0))
-        } else {
-            d
-        }
+        // Exact: `frac(x)` would round for negative `x`.
+        let d = Dd::diff(x, self.centre[j]);
+        d.sub(Dd::new(libm::round(d.hi)))
     }
 
     /// 1D real-space image sum relative to the nearest image:
@@ -785,20 +780,18 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             c[j] = frac(c0[j]);
         }
         let dir = seg.dir();
+        // `c_s − c` exactly (`frac` rounds negative coordinates, so the reduced
+        // centre is only used to walk the cells).
+        let mut cq = [Dd::new(0.0); D];
+        for j in 0..D {
+            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::floor(c0[j])));
+        }
         if self.sigma > SIGMA_SWITCH {
-            let mut delta = [Dd::new(0.0); D];
-            for j in 0..D {
-                delta[j] = Dd::diff(c[j], self.centre[j]);
-            }
-            return self.fourier_segment(&delta, &dir.get(), len);
+            return self.fourier_segment(&cq, &dir.get(), len);
         }
         // As the provided method, but with each piece's origin `c − m` (which
         // `for_each_piece` rounds) rebuilt exactly as a double-double.
         let w = dir.get();
-        let mut cq = [Dd::new(0.0); D];
-        for j in 0..D {
-            cq[j] = Dd::diff(c[j], self.centre[j]);
-        }
         let half = 0.5 * len;
         let mut sum = 0.0;
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
