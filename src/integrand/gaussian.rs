@@ -87,7 +87,9 @@ impl<const D: usize> Gaussian<D> {
     pub const SIGMA_SWITCH: f64 = 0.3;
 
     /// The normalised Gaussian of standard deviation `sigma` centred at
-    /// `centre` (any finite point; stored modulo 1).
+    /// `centre` (any finite point; stored modulo 1 with `geom::frac`, which is
+    /// exact for non-negative coordinates and rounds `1 − |x|`-type results for
+    /// negative ones by at most `2⁻⁵⁴`).
     ///
     /// # Errors
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
