@@ -74,6 +74,7 @@ pub mod pattern;
 pub mod primitive;
 pub mod rng;
 mod simd;
+pub mod special;
 pub mod stats;
 
 pub use error::{EstimateError, ParamError, PatternError, SeedError};

@@ -1,47 +1,872 @@
-//! Gaussian integrand (stub: being implemented).
-#![allow(unused_variables, clippy::all)]
+//! The normalised isotropic Gaussian density, periodised on the unit torus.
+//!
+//! `F(x) = (2πσ²)^{−D/2} e^{−|x − c|²/2σ²}`, `∫_{ℝ^D} F = 1`,
+//! `F̂(k) = e^{−2π²σ²|k|²} e^{−2πik·c}`.
+//!
+//! Along a ray `p + tω`, with `q = p − c`, `a = |ω|²`, `b = q·ω`, the foot
+//! parameter `t_c = −b/a` and the squared distance of the line from the centre
+//! `ρ² = |q|² − b²/a = |q × ω|²/a` (Lagrange's identity, no cancellation),
+//!
+//! ```text
+//! ∫_{t0}^{t1} F = (2πσ²)^{−D/2} e^{−ρ²/2σ²} (σ√2/√a) G(u0, u1),
+//! G(u0, u1) = ∫_{u0}^{u1} e^{−u²} du,   u = √a (t − t_c)/(σ√2).
+//! ```
+//!
+//! See [`Gaussian::segment_free`](Integrand::segment_free) for how `G` and the
+//! exponentials are evaluated without cancellation, and [`Gaussian`] for the
+//! periodisation (real-space images for `σ ≤ 0.3`, Fourier/theta series above).
 
-use super::{Complex, Integrand};
+use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
-use crate::geom::Direction;
-use crate::primitive::Rays32;
+use crate::geom::dd::{two_prod, Dd};
+use crate::geom::{clip_to_unit_box, for_each_piece, frac, Direction};
+use crate::primitive::{Line, Rays32, Segment};
+use crate::simd::{load8, store8, Lane, LANES};
+use crate::special::{dd_div, erfcx, exp_neg_dd, frac_centered, gauss_mid, sinc_dd};
+use core::f64::consts::{PI, SQRT_2, TAU};
+use wide::f32x8;
 
-/// Gaussian integrand (stub).
+const SIGMA_MIN: f64 = Gaussian::<2>::SIGMA_MIN;
+const SIGMA_MAX: f64 = Gaussian::<2>::SIGMA_MAX;
+const SIGMA_SWITCH: f64 = Gaussian::<2>::SIGMA_SWITCH;
+
+/// Truncation threshold: terms below `e^{−TAIL}` relative to the leading term
+/// are dropped (`e^{−45} ≈ 2.9e−20`).
+const TAIL: f64 = 45.0;
+
+/// `π` as a double-double.
+const PI_LO: f64 = 1.2246467991473532e-16;
+/// `√π/2`.
+const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
+
+/// The normalised isotropic Gaussian density `(2πσ²)^{−D/2} e^{−|x−c|²/2σ²}`
+/// (`D` = 2 or 3), periodised on the unit torus.
+///
+/// * `σ ∈ [1e−6, 1e6]` ([`Gaussian::SIGMA_MIN`], [`Gaussian::SIGMA_MAX`]); the centre is stored
+///   modulo 1.
+/// * Periodisation: for `σ ≤` [`Gaussian::SIGMA_SWITCH`] (`0.3`) point values are
+///   products of 1D real-space image sums and [`Integrand::piece_integral`]
+///   sums the free-space closed form over the images whose Gaussian can
+///   contribute more than `e^{−45}` relative to the nearest image anywhere on
+///   the piece; above it, point values are products of 1D theta series
+///   `Σ_k e^{−2π²σ²k²} cos(2πk(x − c))` and segment, piece and line integrals
+///   use the Fourier series `Σ_k f̂_k e^{2πik·c_s} λ sinc(λ k·ω)` (cost
+///   independent of the segment length; `O(1)` for `σ ≥ 1.6`, where only
+///   `k = 0` survives).
+/// * Every `f64` method is accurate to about `1e−15` relative (see each method);
+///   tail values keep their relative accuracy down to the normal range.
 #[derive(Clone, Copy, Debug)]
 pub struct Gaussian<const D: usize> {
-    _p: [f64; D],
+    centre: [f64; D],
+    sigma: f64,
+    /// `σ²` as an exact double-double, times 2.
+    two_s2: Dd,
+    /// `(2πσ²)^{−D/2}`.
+    norm: f64,
+    /// `(2πσ²)^{−D/2} · σ√2` (the prefactor of `G`).
+    line_norm: f64,
+    /// `2π²σ²` as a double-double.
+    two_pi2_s2: Dd,
+    max: f64,
+}
+
+impl<const D: usize> Gaussian<D> {
+    /// Smallest accepted `σ`.
+    pub const SIGMA_MIN: f64 = 1e-6;
+    /// Largest accepted `σ`.
+    pub const SIGMA_MAX: f64 = 1e6;
+    /// For `σ ≤ SIGMA_SWITCH` the periodisation is summed over real-space images,
+    /// above it over Fourier modes (theta series).
+    ///
+    /// At `σ = 0.3` both are cheap and accurate: a 1D image sum needs `|n| ≤ 4`
+    /// and the theta series `k ≤ 5`; along segments the real-space sum visits about
+    /// `(4π/3)(9.5σ)³ ≈ 80` images per piece in 3D and the Fourier series about
+    /// 270 modes per segment (independent of its length), whose relative rounding
+    /// error is amplified by at most `max Σ|terms| / min f ≈ 8` there (it grows
+    /// quickly below `σ ≈ 0.25`).
+    pub const SIGMA_SWITCH: f64 = 0.3;
+
+    /// The normalised Gaussian of standard deviation `sigma` centred at
+    /// `centre` (any finite point; stored modulo 1 with `geom::frac`, which is
+    /// exact for non-negative coordinates and rounds `1 − |x|`-type results for
+    /// negative ones by at most `2⁻⁵⁴`).
+    ///
+    /// # Errors
+    /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
+    /// (`centre`, `sigma`); [`ParamError::OutOfRange`] (`sigma`) unless
+    /// `1e−6 ≤ σ ≤ 1e6`.
+    pub fn new(centre: [f64; D], sigma: f64) -> Result<Self, ParamError> {
+        check_dim::<D>()?;
+        check_finite("centre", &centre)?;
+        if !sigma.is_finite() {
+            return Err(ParamError::NonFinite { name: "sigma" });
+        }
+        if !(SIGMA_MIN..=SIGMA_MAX).contains(&sigma) {
+            return Err(ParamError::OutOfRange {
+                name: "sigma",
+                value: sigma,
+                min: SIGMA_MIN,
+                max: SIGMA_MAX,
+            });
+        }
+        let mut c = [0.0; D];
+        for j in 0..D {
+            c[j] = frac(centre[j]);
+        }
+        let s2 = Dd::prod(sigma, sigma);
+        let two_s2 = Dd {
+            hi: 2.0 * s2.hi,
+            lo: 2.0 * s2.lo,
+        };
+        let pi = Dd { hi: PI, lo: PI_LO };
+        let pi2 = pi.mul(pi);
+        let two_pi2_s2 = Dd {
+            hi: 2.0 * pi2.hi,
+            lo: 2.0 * pi2.lo,
+        }
+        .mul(s2);
+        // (2πσ²)^{−D/2} = σ^{−D} (2π)^{−D/2}.
+        let norm = if D == 2 {
+            1.0 / (TAU * sigma * sigma)
+        } else {
+            1.0 / (TAU * libm::sqrt(TAU) * (sigma * sigma * sigma))
+        };
+        let line_norm = if D == 2 {
+            SQRT_2 / (TAU * sigma)
+        } else {
+            SQRT_2 / (TAU * libm::sqrt(TAU) * (sigma * sigma))
+        };
+        let mut g = Self {
+            centre: c,
+            sigma,
+            two_s2,
+            norm,
+            line_norm,
+            two_pi2_s2,
+            max: 0.0,
+        };
+        g.max = g.value(&c);
+        Ok(g)
+    }
+
+    /// The centre, reduced modulo 1 (in `[0, 1)^D`).
+    #[must_use]
+    pub fn centre(&self) -> [f64; D] {
+        self.centre
+    }
+
+    /// The standard deviation `σ`.
+    #[must_use]
+    pub fn sigma(&self) -> f64 {
+        self.sigma
+    }
+
+    /// The normalisation `(2πσ²)^{−D/2}` (the free-space peak value).
+    #[must_use]
+    pub fn peak(&self) -> f64 {
+        self.norm
+    }
+
+    /// `x / (2σ²)` in double-double.
+    #[inline]
+    fn over_two_s2(&self, x: Dd) -> Dd {
+        dd_div(x, self.two_s2)
+    }
+
+    /// The free-space integral along `q + tω` where `q = p − centre` is given
+    /// exactly as double-doubles; `t0 < t1`.
+    fn seg_core(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+        let mut a = Dd::new(0.0);
+        let mut b = Dd::new(0.0);
+        for j in 0..D {
+            a = a.add(Dd::prod(w[j], w[j]));
+            b = b.add(q[j].mul(Dd::new(w[j])));
+        }
+        // |q × ω|² (Lagrange: a ρ² = |q|²a − b²).
+        let mut cr2 = Dd::new(0.0);
+        let pairs: &[(usize, usize)] = if D == 2 {
+            &[(0, 1)]
+        } else {
+            &[(1, 2), (2, 0), (0, 1)]
+        };
+        for &(i, k) in pairs {
+            let x = q[i].mul(Dd::new(w[k])).sub(q[k].mul(Dd::new(w[i])));
+            cr2 = cr2.add(x.mul(x));
+        }
+        let rho2 = dd_div(cr2, a);
+        let tc = dd_div(b, a).neg();
+        let sa = libm::sqrt(a.hi);
+        let inv = sa / (self.sigma * SQRT_2);
+        let mult = self.line_norm / sa;
+        let s0 = if t0 == f64::NEG_INFINITY {
+            Dd::new(t0)
+        } else {
+            Dd::new(t0).sub(tc)
+        };
+        let s1 = if t1 == f64::INFINITY {
+            Dd::new(t1)
+        } else {
+            Dd::new(t1).sub(tc)
+        };
+        let u0 = s0.to_f64() * inv;
+        let u1 = s1.to_f64() * inv;
+        if u0 < 0.0 && u1 > 0.0 {
+            // Straddles the foot point: no cancellation in erf + erf.
+            let g = SQRT_PI_HALF * (libm::erf(u1) + libm::erf(-u0));
+            let e = self.over_two_s2(rho2);
+            return exp_neg_dd(e, mult * g);
+        }
+        // Same sign: mirror so that 0 ≤ v0 < v1, near endpoint s_near.
+        let (v0, v1, s_near) = if u1 <= 0.0 {
+            (-u1, -u0, s1)
+        } else {
+            (u0, u1, s0)
+        };
+        let dv = (t1 - t0) * inv; // v1 − v0, relative error of a few ulp
+        let delta = dv * (v1 + v0); // v1² − v0²
+        if delta >= 1.0 {
+            // Long: G = (√π/2) e^{−v0²} [erfcx(v0) − e^{−(v1²−v0²)} erfcx(v1)],
+            // cancellation at most 1/(1 − e^{−1}) ≈ 1.6.
+            let tail = if v1 == f64::INFINITY {
+                0.0
+            } else {
+                libm::exp(-delta) * erfcx(v1)
+            };
+            let g = SQRT_PI_HALF * (erfcx(v0) - tail);
+            // Exponent: (ρ² + a s_near²)/2σ² = squared distance of the near
+            // endpoint from the centre over 2σ², in double-double.
+            let e = self.over_two_s2(rho2.add(a.mul(s_near.mul(s_near))));
+            exp_neg_dd(e, mult * g)
+        } else {
+            // Short: around the midpoint m with half-width h (|m|h ≤ 1/4, h ≤ 1/2).
+            let sm = s0.add(s1);
+            let sm = Dd {
+                hi: 0.5 * sm.hi,
+                lo: 0.5 * sm.lo,
+            };
+            let m = sm.to_f64() * inv;
+            let h = 0.5 * dv;
+            let g = gauss_mid(m, h);
+            let e = self.over_two_s2(rho2.add(a.mul(sm.mul(sm))));
+            exp_neg_dd(e, mult * g)
+        }
+    }
+
+    /// `x_j − c_j` reduced to about `[−1/2, 1/2]`, in double-double.
+    #[inline]
+    fn reduced_offset(&self, x: f64, j: usize) -> Dd {
+        // Exact: `frac(x)` would round for negative `x`.
+        let d = Dd::diff(x, self.centre[j]);
+        d.sub(Dd::new(libm::round(d.hi)))
+    }
+
+    /// 1D real-space image sum relative to the nearest image:
+    /// `Σ_n e^{−((y+n)² − y²)/2σ²}` for `|y| ≲ 1/2`.
+    fn images_1d(&self, y: Dd) -> f64 {
+        let inv = 1.0 / self.two_s2.hi;
+        let mut s = 1.0;
+        let mut n = 1.0f64;
+        loop {
+            // (y + n)² − y² = n (2y + n), with 2y + n formed in double-double.
+            let ep = n
+                * Dd::new(n)
+                    .add(Dd {
+                        hi: 2.0 * y.hi,
+                        lo: 2.0 * y.lo,
+                    })
+                    .to_f64()
+                * inv;
+            let em = n
+                * Dd::new(n)
+                    .sub(Dd {
+                        hi: 2.0 * y.hi,
+                        lo: 2.0 * y.lo,
+                    })
+                    .to_f64()
+                * inv;
+            if ep.min(em) > TAIL {
+                break;
+            }
+            s += libm::exp(-ep) + libm::exp(-em);
+            n += 1.0;
+        }
+        s
+    }
+
+    /// 1D theta series `Σ_k e^{−2π²σ²k²} cos(2πky)`.
+    fn theta_1d(&self, y: Dd) -> f64 {
+        let q = self.two_pi2_s2.to_f64();
+        let mut s = 1.0;
+        let mut k = 1.0f64;
+        while q * k * k <= TAIL {
+            let ph = frac_centered(y.mul(Dd::new(k)));
+            s += 2.0 * libm::exp(-q * k * k) * libm::cos(TAU * ph);
+            k += 1.0;
+        }
+        s
+    }
+
+    /// Fourier series of the periodised integral over the segment centred at
+    /// `c + delta` (delta in double-double), direction `w`, length `len`:
+    /// `Σ_k e^{−2π²σ²|k|²} cos(2πk·delta) λ sinc(λ k·ω)`.
+    fn fourier_segment(&self, delta: &[Dd; D], w: &[f64; D], len: f64) -> f64 {
+        if !len.is_finite() {
+            return f64::INFINITY;
+        }
+        if len == 0.0 {
+            return 0.0;
+        }
+        let q = self.two_pi2_s2.to_f64();
+        let kmax2 = TAIL / q;
+        let kmax = libm::floor(libm::sqrt(kmax2)) as i64;
+        let mut sum = 0.0;
+        let mut k = [0i64; D];
+        // Odometer over [−kmax, kmax]^D, keeping k in the positive half space
+        // (first non-zero component > 0) and doubling (terms of ±k are
+        // complex conjugates).
+        for j in 0..D {
+            k[j] = -kmax;
+        }
+        loop {
+            let mut first = 0i64;
+            for j in 0..D {
+                if k[j] != 0 {
+                    first = k[j];
+                    break;
+                }
+            }
+            if first > 0 {
+                let mut k2 = 0.0;
+                for j in 0..D {
+                    k2 += (k[j] * k[j]) as f64;
+                }
+                if k2 <= kmax2 {
+                    let mut ph = Dd::new(0.0);
+                    let mut kw = Dd::new(0.0);
+                    for j in 0..D {
+                        let kj = k[j] as f64;
+                        ph = ph.add(delta[j].mul(Dd::new(kj)));
+                        kw = kw.add(Dd::prod(kj, w[j]));
+                    }
+                    let ph = frac_centered(ph);
+                    let sc = sinc_dd(kw.mul(Dd::new(len)));
+                    sum += 2.0 * libm::exp(-q * k2) * libm::cos(TAU * ph) * sc;
+                }
+            }
+            // Advance.
+            let mut j = 0;
+            loop {
+                if j == D {
+                    return len * (1.0 + sum);
+                }
+                if k[j] < kmax {
+                    k[j] += 1;
+                    break;
+                }
+                k[j] = -kmax;
+                j += 1;
+            }
+        }
+    }
+
+    /// Periodised integral over the piece `c + q + tω`, `t ∈ [t0, t1]`, by
+    /// real-space images; `q` (the piece origin minus the centre) is exact.
+    fn piece_images(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+        if !(t1 - t0).is_finite() {
+            return f64::INFINITY;
+        }
+        let mut lo = [0.0; D];
+        let mut hi = [0.0; D];
+        let mut dn2 = 0.0;
+        for j in 0..D {
+            let pj = self.centre[j] + q[j].to_f64();
+            let xa = pj + t0 * w[j];
+            let xb = pj + t1 * w[j];
+            lo[j] = xa.min(xb) - 1e-12;
+            hi[j] = xa.max(xb) + 1e-12;
+            // Largest distance to the nearest image of c_j over [lo, hi].
+            let ya = lo[j] - self.centre[j];
+            let yb = hi[j] - self.centre[j];
+            let dmax = if libm::floor(ya - 0.5) != libm::floor(yb - 0.5) {
+                0.5
+            } else {
+                let da = (ya - libm::round(ya)).abs();
+                let db = (yb - libm::round(yb)).abs();
+                da.max(db)
+            };
+            dn2 += dmax * dmax;
+        }
+        // Images whose squared distance to the box exceeds R² can contribute at
+        // most e^{−TAIL} relative to the nearest image, pointwise.
+        let r2 = TAIL * self.two_s2.hi * (1.0 + 1e-9) + dn2;
+        let r = libm::sqrt(r2);
+        let mut mlo = [0i64; D];
+        let mut mhi = [0i64; D];
+        for j in 0..D {
+            mlo[j] = libm::floor(lo[j] - self.centre[j] - r) as i64;
+            mhi[j] = libm::ceil(hi[j] - self.centre[j] + r) as i64;
+        }
+        let mut m = mlo;
+        let mut sum = 0.0;
+        loop {
+            let mut d2 = 0.0;
+            for j in 0..D {
+                let cm = self.centre[j] + m[j] as f64;
+                let d = (lo[j] - cm).max(cm - hi[j]).max(0.0);
+                d2 += d * d;
+            }
+            if d2 <= r2 {
+                let mut qm = *q;
+                for j in 0..D {
+                    qm[j] = q[j].sub(Dd::new(m[j] as f64));
+                }
+                sum += self.seg_core(&qm, w, t0, t1);
+            }
+            let mut j = 0;
+            loop {
+                if j == D {
+                    return sum;
+                }
+                if m[j] < mhi[j] {
+                    m[j] += 1;
+                    break;
+                }
+                m[j] = mlo[j];
+                j += 1;
+            }
+        }
+    }
+
+    /// `(p + t_m ω) − c` in double-double, `t_m` the midpoint of `[t0, t1]`.
+    fn mid_delta(&self, p: &[f64; D], w: &[f64; D], t0: f64, t1: f64) -> [Dd; D] {
+        let s = Dd::new(t0).add(Dd::new(t1));
+        let tm = Dd {
+            hi: 0.5 * s.hi,
+            lo: 0.5 * s.lo,
+        };
+        let mut d = [Dd::new(0.0); D];
+        for j in 0..D {
+            d[j] = Dd::diff(p[j], self.centre[j]).add(tm.mul(Dd::new(w[j])));
+        }
+        d
+    }
+
+    /// The constants of the `f32` kernel.
+    fn consts32(&self) -> Consts32<D> {
+        let mut c_hi = [0.0f32; D];
+        let mut c_lo = [0.0f32; D];
+        for j in 0..D {
+            c_hi[j] = self.centre[j] as f32;
+            c_lo[j] = (self.centre[j] - f64::from(c_hi[j])) as f32;
+        }
+        Consts32 {
+            c_hi,
+            c_lo,
+            inv_s2: (1.0 / (self.sigma * SQRT_2)) as f32,
+            inv_2s2: (1.0 / self.two_s2.hi) as f32,
+            k: (self.line_norm * SQRT_PI_HALF) as f32,
+        }
+    }
+}
+
+/// Per-integrand constants of the `f32` kernel.
+#[derive(Clone, Copy)]
+struct Consts32<const D: usize> {
+    c_hi: [f32; D],
+    c_lo: [f32; D],
+    /// `1/(σ√2)`.
+    inv_s2: f32,
+    /// `1/(2σ²)`.
+    inv_2s2: f32,
+    /// `(2πσ²)^{−D/2} σ√2 · √π/2`; the integral is `k/√a · e^{−ρ²/2σ²} (erf(u1) − erf(u0))`.
+    k: f32,
+}
+
+/// `e^{x}` for `x ≤ 0` (`0` below `−87`): `2^n · p(r)` with `n = ⌊x log₂e + ½⌋`,
+/// `r = x − n ln 2` (Cody–Waite two-part `ln 2`), `p` the degree-7 Taylor
+/// polynomial (|r| ≤ 0.35: truncation ≤ 6e−9), Horner without FMA. Relative
+/// error ≤ 3e−7.
+#[inline(always)]
+fn exp_neg32<L: Lane>(x: L) -> L {
+    let under = x.lt(L::splat(-87.0));
+    let xc = x.max(L::splat(-87.0));
+    let n = (xc * L::splat(core::f32::consts::LOG2_E) + L::splat(0.5)).floor();
+    let r = (xc - n * L::splat(0.693_359_375)) - n * L::splat(-2.121_944_4e-4);
+    let mut p = L::splat(1.0 / 5040.0);
+    p = p * r + L::splat(1.0 / 720.0);
+    p = p * r + L::splat(1.0 / 120.0);
+    p = p * r + L::splat(1.0 / 24.0);
+    p = p * r + L::splat(1.0 / 6.0);
+    p = p * r + L::splat(0.5);
+    p = p * r + L::splat(1.0);
+    p = p * r + L::splat(1.0);
+    L::select(under, L::splat(0.0), p * L::pow2i(n))
+}
+
+/// `erf(x)` in `f32`: `1 − e^{−x²}·P(t)`, `t = 1/(1 + 0.4|x|)`, odd extension,
+/// where the degree-6 polynomial `P ≈ erfcx` was fitted for this crate by
+/// iteratively reweighted least squares on the absolute error of `erf` over
+/// `t ∈ (0, 1]` (the form of Abramowitz & Stegun 7.1.25–28, own coefficients).
+/// Absolute error ≤ 1.2e−8 in exact arithmetic, ≤ 3e−7 with `f32` rounding
+/// (measured). `±∞ ↦ ±1`.
+#[inline(always)]
+fn erf32<L: Lane>(x: L) -> L {
+    let ax = x.abs();
+    let t = L::splat(1.0) / (L::splat(1.0) + L::splat(0.4) * ax);
+    let mut p = L::splat(-0.179_589_42);
+    p = p * t + L::splat(0.607_486_67);
+    p = p * t + L::splat(-0.163_771_06);
+    p = p * t + L::splat(0.244_526_97);
+    p = p * t + L::splat(0.296_928_97);
+    p = p * t + L::splat(0.188_693_33);
+    p = p * t + L::splat(0.005_724_541);
+    let e = exp_neg32(-(ax * ax));
+    let y = L::splat(1.0) - p * e;
+    L::select(x.lt(L::splat(0.0)), -y, y)
+}
+
+/// The one `f32` kernel behind [`Integrand::segment_free_f32`] and the batch.
+#[inline(always)]
+fn kernel32<L: Lane, const D: usize>(k: &Consts32<D>, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+    let mut q = [L::splat(0.0); D];
+    for j in 0..D {
+        q[j] = (o[j] - L::splat(k.c_hi[j])) - L::splat(k.c_lo[j]);
+    }
+    let mut a = L::splat(0.0);
+    let mut b = L::splat(0.0);
+    for j in 0..D {
+        a = a + d[j] * d[j];
+        b = b + q[j] * d[j];
+    }
+    let cr2 = if D == 2 {
+        let x = q[0] * d[1] - q[1] * d[0];
+        x * x
+    } else {
+        let x = q[1] * d[2] - q[2] * d[1];
+        let y = q[2] * d[0] - q[0] * d[2];
+        let z = q[0] * d[1] - q[1] * d[0];
+        x * x + y * y + z * z
+    };
+    let rho2 = cr2 / a;
+    let tc = -(b / a);
+    let sa = a.sqrt();
+    let inv = sa * L::splat(k.inv_s2);
+    let u0 = (t0 - tc) * inv;
+    let u1 = (t1 - tc) * inv;
+    let g = erf32(u1) - erf32(u0);
+    let e = exp_neg32(-(rho2 * L::splat(k.inv_2s2)));
+    (L::splat(k.k) / sa) * e * g
 }
 
 impl<const D: usize> Integrand<D> for Gaussian<D> {
+    /// `(2πσ²)^{−D/2} e^{−|x−c|²/2σ²}` with the squared distance in
+    /// double-double: relative error ≤ 4 ulp (to the normal range).
     fn value_free(&self, x: &[f64; D]) -> f64 {
-        unimplemented!()
+        let mut d2 = Dd::new(0.0);
+        for j in 0..D {
+            let d = Dd::diff(x[j], self.centre[j]);
+            d2 = d2.add(d.mul(d));
+        }
+        exp_neg_dd(self.over_two_s2(d2), self.norm)
     }
+
+    /// `∫_{t0}^{t1} F(p + tω) dt`, any `t0 ≤ t1` (either may be infinite;
+    /// `t0 > t1` gives the negated integral, NaN propagates).
+    ///
+    /// Evaluation (all with `q = p − c`, `a`, `b`, `t_c = −b/a` and
+    /// `ρ² = |q × ω|²/a` in double-double, so the endpoint offsets `t − t_c` are
+    /// exact to `2⁻¹⁰⁰`; hence there is **no** conditioning loss near tangency or
+    /// where the ends clip the support):
+    /// * straddling (`u0 < 0 < u1`): `G = (√π/2)(erf(u1) + erf(−u0))`, times
+    ///   `e^{−ρ²/2σ²}`;
+    /// * same sign, mirrored to `0 ≤ v0 < v1 ≤ ∞`, if `v1² − v0² ≥ 1`:
+    ///   `G = (√π/2) e^{−v0²}[erfcx(v0) − e^{−(v1²−v0²)} erfcx(v1)]`
+    ///   ([`crate::special::erfcx`]; cancellation ≤ 1.6×), and the exponentials
+    ///   `e^{−ρ²/2σ²} e^{−v0²}` are merged into one
+    ///   `e^{−|q + t_near ω|²/2σ²}` whose argument is a double-double;
+    /// * same sign with `v1² − v0² < 1` (short, including `λ → 0`): around the
+    ///   midpoint `m`, `G = e^{−m²}·∫_{−h}^{h} e^{−s²−2ms} ds`
+    ///   ([`crate::special::gauss_mid`], a cancellation-free series), again
+    ///   with one merged exponential; continuous as `λ → 0` (`≈ λ·F(midpoint)`).
+    ///
+    /// Error bound: relative error ≤ `1e−14` (≈ 45 ulp; measured ≤ 2e−15)
+    /// for all inputs whose result is at least `2.2e−308`; the bound does not
+    /// grow with the exponent (values of `1e−300` are as accurate as values of
+    /// `1`). Below the normal range the result degrades gracefully into
+    /// subnormals and 0.
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
-        unimplemented!()
+        if t0.is_nan() || t1.is_nan() {
+            return f64::NAN;
+        }
+        if t0 == t1 {
+            return 0.0;
+        }
+        if t0 > t1 {
+            return -self.segment_free(p, dir, t1, t0);
+        }
+        let mut q = [Dd::new(0.0); D];
+        for j in 0..D {
+            q[j] = Dd::diff(p[j], self.centre[j]);
+        }
+        self.seg_core(&q, &dir.get(), t0, t1)
     }
+
+    /// `f32` twin of the batch: `∫_{t0}^{t1} F(o + t·d) dt` (the parameter is
+    /// that of the given, not necessarily unit, `d`).
+    ///
+    /// `K/√a · e^{−ρ²/2σ²} · (erf(u1) − erf(u0))` with `ρ²` from the cross
+    /// product, this crate's `f32` `exp` (`2^n`·polynomial) and the
+    /// Abramowitz–Stegun 7.1.26 `erf` (absolute error 1.5e−7).
+    ///
+    /// Error bound against the exact integral (asserted in the tests): with
+    /// the line's peak `P = (2πσ²)^{−D/2} e^{−ρ²/2σ²} σ√(2π)/|d|`,
+    /// `E = ρ²/2σ²` and `κ = |d|(|q| + |t0| + |t1|)/σ` (finite ends only;
+    /// `q = o − c`), `|err| ≤ P·(1e−6 + 1e−6·E + 2e−7·κ·(1 + √(2E)))`: an
+    /// absolute bound relative to the peak that grows only with the `f32`
+    /// conditioning of the inputs (a tail segment whose exact value is far
+    /// below `P·1e−6` may come out as 0). Values below `≈ 1e−38·P` flush to 0.
+    ///
+    /// Release behaviour: never panics; infinite `t0`/`t1` are supported;
+    /// `t0 > t1` gives the negated integral; NaN inputs or `d = 0` give an
+    /// unspecified value (NaN or finite).
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        unimplemented!()
+        kernel32::<f32, D>(&self.consts32(), o, d, t0, t1)
     }
+
     fn segment_free_batch_f32(
         &self,
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        unimplemented!()
+        let n = rays.check(out.len())?;
+        let k = self.consts32();
+        let mut i = 0;
+        while i + LANES <= n {
+            let mut o = [f32x8::splat(0.0); D];
+            let mut d = [f32x8::splat(0.0); D];
+            for j in 0..D {
+                o[j] = load8(rays.origin[j], i);
+                d[j] = load8(rays.dir[j], i);
+            }
+            let r = kernel32::<f32x8, D>(&k, o, d, load8(rays.t0, i), load8(rays.t1, i));
+            store8(out, i, r);
+            i += LANES;
+        }
+        while i < n {
+            let mut o = [0.0f32; D];
+            let mut d = [0.0f32; D];
+            for j in 0..D {
+                o[j] = rays.origin[j][i];
+                d[j] = rays.dir[j][i];
+            }
+            out[i] = kernel32::<f32, D>(&k, o, d, rays.t0[i], rays.t1[i]);
+            i += 1;
+        }
+        Ok(())
     }
+
+    /// The periodised value, a product of 1D periodised Gaussians.
+    /// `σ ≤ 0.3`: `(2πσ²)^{−D/2} e^{−Σ y_j²/2σ²} Π_j Σ_n e^{−n(2y_j+n)/2σ²}`
+    /// with `y_j = x_j − c_j` reduced to `[−1/2, 1/2]` and the leading exponent
+    /// in double-double (terms below `e^{−45}` of the nearest image dropped):
+    /// relative error ≤ 1e−14 for every value in the normal range. `σ > 0.3`:
+    /// `Π_j Σ_k e^{−2π²σ²k²} cos(2πk y_j)` (values ≥ 0.31, relative error
+    /// ≤ 1e−15).
     fn value(&self, x: &[f64; D]) -> f64 {
-        unimplemented!()
+        let mut y = [Dd::new(0.0); D];
+        for j in 0..D {
+            if !x[j].is_finite() {
+                return f64::NAN;
+            }
+            y[j] = self.reduced_offset(x[j], j);
+        }
+        if self.sigma > SIGMA_SWITCH {
+            let mut v = 1.0;
+            for j in 0..D {
+                v *= self.theta_1d(y[j]);
+            }
+            return v;
+        }
+        let mut e = Dd::new(0.0);
+        let mut prod = 1.0;
+        for j in 0..D {
+            e = e.add(y[j].mul(y[j]));
+            prod *= self.images_1d(y[j]);
+        }
+        exp_neg_dd(self.over_two_s2(e), self.norm * prod)
     }
+
+    /// Exactly 1 (the density is normalised).
     fn integral(&self) -> f64 {
-        unimplemented!()
+        1.0
     }
+
+    /// `σ ≤ 0.3`: the sum of [`Integrand::segment_free`] over the images `c + m`
+    /// whose squared distance to the piece's bounding box is within
+    /// `90σ² + Σ_j (max nearest-image distance)²`: every dropped image is below
+    /// `e^{−45}` of the nearest image at each point of the piece, so the
+    /// relative error is that of `segment_free` plus `≤ 1e−18`. `σ > 0.3`: the
+    /// Fourier series of the segment (see [`Integrand::segment_integral`]).
+    /// An infinite piece returns `+∞`.
     fn piece_integral(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
-        unimplemented!()
+        if t0.is_nan() || t1.is_nan() {
+            return f64::NAN;
+        }
+        if t0 >= t1 {
+            return if t0 == t1 {
+                0.0
+            } else {
+                -self.piece_integral(p, dir, t1, t0)
+            };
+        }
+        let w = dir.get();
+        if self.sigma > SIGMA_SWITCH {
+            if !(t1 - t0).is_finite() {
+                return f64::INFINITY;
+            }
+            let delta = self.mid_delta(p, &w, t0, t1);
+            return self.fourier_segment(&delta, &w, t1 - t0);
+        }
+        let mut q = [Dd::new(0.0); D];
+        for j in 0..D {
+            q[j] = Dd::diff(p[j], self.centre[j]);
+        }
+        self.piece_images(&q, &w, t0, t1)
     }
+
+    /// The periodised value at the centre (`max f`).
     fn max_value(&self) -> f64 {
-        unimplemented!()
+        self.max
     }
+
+    /// `e^{−2π²σ²|k|²} e^{−2πik·c}`: the exponent is a double-double (so the
+    /// modulus has a relative error ≤ 2 ulp even where it is `1e−300`) and the
+    /// phase `k·c mod 1` is reduced exactly (`k_j c_j` by `two_prod`), so the
+    /// coefficient is accurate to ≤ 4 ulp of its modulus at any frequency.
     fn fourier(&self, k: &[i32; D]) -> Complex {
-        unimplemented!()
+        let mut k2 = Dd::new(0.0);
+        let mut ph = Dd::new(0.0);
+        for j in 0..D {
+            let kj = f64::from(k[j]);
+            k2 = k2.add(Dd::prod(kj, kj));
+            let (p, e) = two_prod(kj, self.centre[j]);
+            let pr = p - libm::round(p); // exact
+            ph = ph.add(Dd::new(pr)).add(Dd::new(e));
+        }
+        let modulus = exp_neg_dd(self.two_pi2_s2.mul(k2), 1.0);
+        if modulus == 0.0 {
+            return Complex { re: 0.0, im: 0.0 };
+        }
+        let r = frac_centered(ph);
+        let (s, c) = (libm::sin(TAU * r), libm::cos(TAU * r));
+        Complex {
+            re: modulus * c,
+            im: -modulus * s,
+        }
+    }
+
+    /// The wrapped segment integral. `σ > 0.3`: the Fourier series
+    /// `λ Σ_k e^{−2π²σ²|k|²} cos(2πk·(c_s − c)) sinc(λ k·ω)` over
+    /// `2π²σ²|k|² ≤ 45` (phases and `λ k·ω` in double-double), whose cost does
+    /// not depend on `λ`; relative error ≤ 1e−14. `σ ≤ 0.3`: the sum of
+    /// [`Integrand::piece_integral`] over the cells crossed (as the provided
+    /// method).
+    fn segment_integral(&self, seg: &Segment<D>) -> f64 {
+        let len = seg.length();
+        if len == 0.0 {
+            return 0.0;
+        }
+        let c0 = seg.centre();
+        let mut c = [0.0; D];
+        for j in 0..D {
+            c[j] = frac(c0[j]);
+        }
+        let dir = seg.dir();
+        // `c_s − c` exactly (`frac` rounds negative coordinates, so the reduced
+        // centre is only used to walk the cells).
+        let mut cq = [Dd::new(0.0); D];
+        for j in 0..D {
+            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::floor(c0[j])));
+        }
+        if self.sigma > SIGMA_SWITCH {
+            return self.fourier_segment(&cq, &dir.get(), len);
+        }
+        // As the provided method, but with each piece's origin `c − m` (which
+        // `for_each_piece` rounds) rebuilt exactly as a double-double.
+        let w = dir.get();
+        let half = 0.5 * len;
+        let mut sum = 0.0;
+        for_each_piece(&c, &dir, -half, half, |p, a, b| {
+            let mut q = cq;
+            for j in 0..D {
+                q[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+            }
+            if a < b {
+                sum += self.piece_images(&q, &w, a, b);
+            }
+        });
+        sum
+    }
+
+    /// The integral over the chord of the unit box: for `σ > 0.3` the chord is
+    /// a segment of the periodised function and the Fourier series is used;
+    /// otherwise the real-space image sum over the chord (one piece, with the
+    /// offset `p − c` exact).
+    fn line_integral(&self, line: &Line<D>) -> f64 {
+        let dir = line.dir();
+        let p = line.point();
+        let Some((t0, t1)) = clip_to_unit_box(&p, &dir) else {
+            return 0.0;
+        };
+        let w = dir.get();
+        if self.sigma > SIGMA_SWITCH {
+            let delta = self.mid_delta(&p, &w, t0, t1);
+            return self.fourier_segment(&delta, &w, t1 - t0);
+        }
+        // One piece, with the exact offset p − c (no re-basing needed: the
+        // closed form works with t − t_c in double-double).
+        let mut q = [Dd::new(0.0); D];
+        for j in 0..D {
+            q[j] = Dd::diff(p[j], self.centre[j]);
+        }
+        self.piece_images(&q, &w, t0, t1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kernels_agree_scalar_simd() {
+        let g = Gaussian::<2>::new([0.3, 0.6], 0.05).unwrap();
+        let k = g.consts32();
+        let xs = [-3.0f32, -0.7, -0.1, 0.0, 0.2, 1.3, 2.5, f32::INFINITY];
+        let v = kernel32::<f32x8, 2>(
+            &k,
+            [f32x8::from([0.1; 8]), f32x8::from([0.5; 8])],
+            [f32x8::from([0.6; 8]), f32x8::from([0.8; 8])],
+            f32x8::from([-1.0; 8]),
+            f32x8::from(xs),
+        )
+        .to_array();
+        for l in 0..8 {
+            let s = kernel32::<f32, 2>(&k, [0.1, 0.5], [0.6, 0.8], -1.0, xs[l]);
+            assert_eq!(s.to_bits(), v[l].to_bits());
+        }
+    }
+
+    #[test]
+    fn exp_erf_f32() {
+        for i in 0..2000 {
+            let x = -87.0 + 87.0 * i as f64 / 2000.0;
+            let e = f64::from(exp_neg32(x as f32));
+            let r = libm::exp(f64::from(x as f32));
+            assert!(((e - r) / r).abs() < 3e-7, "{x} {e} {r}");
+            let x = -6.0 + 12.0 * i as f64 / 2000.0;
+            let e = f64::from(erf32(x as f32));
+            let r = libm::erf(f64::from(x as f32));
+            assert!((e - r).abs() < 3e-7, "{x} {e} {r}");
+        }
     }
 }
