@@ -318,6 +318,10 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// error of a few ulp for an unclipped chord (including tangent and grazing
     /// lines), absolute error `≈ 2u·(|t0| + |t1| + |t±|)` when the ends clip it.
     /// See [`Ball`] (numerics).
+    ///
+    /// Bad input (no panic): `t0 > t1` gives 0; a NaN or infinite `p`, or a
+    /// line so far away that the squares overflow, gives 0; a NaN end is
+    /// treated as unbounded on its side.
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
         let w = dir.get();
         let mut q = [Dd::new(0.0); D];
@@ -342,7 +346,9 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// e.g. for `L ≤ 1`: `≤ 1e-6·r` (`r = 0.1`) and `≤ 1e-4·r` (`r = 10⁻³`)
     /// for `d⊥ ≤ r/2`, `≤ 2e-3·r` (`r = 0.1`) and `≤ 2e-2·r` (`r = 10⁻³`)
     /// within `10⁻⁶r` of tangency. The centre is the reduced centre rounded to
-    /// `f32`; `d` must be non-zero (the result for `d = 0` is unspecified).
+    /// `f32`. Bad input (no panic): `t0 > t1` gives 0, a NaN or infinite
+    /// origin gives 0, a NaN end is treated as unbounded; `d` must be non-zero
+    /// (the result for `d = 0` is unspecified).
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
         self.chord_lanes::<f32>(o, d, t0, t1)
     }
