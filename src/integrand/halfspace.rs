@@ -230,12 +230,7 @@ impl<const D: usize> HalfSpace<D> {
             let m = [self.m[0], self.m[1], self.m[2]];
             let mut tet = |v1: [f64; 3], v2: [f64; 3], v3: [f64; 3], vol: f64| {
                 if vol > 0.0 {
-                    let mut th = [
-                        Dd::new(0.0),
-                        phase(kp, &v1),
-                        phase(kp, &v2),
-                        phase(kp, &v3),
-                    ];
+                    let mut th = [Dd::new(0.0), phase(kp, &v1), phase(kp, &v2), phase(kp, &v3)];
                     acc = acc.add(simplex_dd(&mut th).scale(6.0 * vol));
                 }
             };
@@ -274,10 +269,7 @@ impl<const D: usize> HalfSpace<D> {
                 let mut y = [0.0; 3];
                 y[a] = u[0];
                 y[b] = u[1];
-                let num = self
-                    .s
-                    .sub(Dd::prod(m[a], u[0]))
-                    .sub(Dd::prod(m[b], u[1]));
+                let num = self.s.sub(Dd::prod(m[a], u[0])).sub(Dd::prod(m[b], u[1]));
                 y[z] = (num.hi / m[z]).clamp(0.0, 1.0);
                 y
             };
@@ -307,7 +299,10 @@ impl HalfSpace<2> {
         if !theta.is_finite() {
             return Err(ParamError::NonFinite { name: "theta" });
         }
-        Self::new(Direction::new([libm::cos(theta), libm::sin(theta)])?, offset)
+        Self::new(
+            Direction::new([libm::cos(theta), libm::sin(theta)])?,
+            offset,
+        )
     }
 }
 
@@ -436,8 +431,13 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
         match self.state {
             Fill::Empty | Fill::Full => Complex::default(),
             Fill::Partial => {
-                let kp: [f64; D] =
-                    core::array::from_fn(|j| if self.refl[j] { -(k[j] as f64) } else { k[j] as f64 });
+                let kp: [f64; D] = core::array::from_fn(|j| {
+                    if self.refl[j] {
+                        -(k[j] as f64)
+                    } else {
+                        k[j] as f64
+                    }
+                });
                 self.fourier_std(&kp)
             }
         }
@@ -466,7 +466,11 @@ fn kernel<L: Lane, const D: usize>(n: &[f32; D], h: f32, o: [L; D], d: [L; D], t
         let b = (one - o[j]) / d[j];
         let dz = L::le(d[j].abs(), zero);
         // ω_j = 0: keep everything iff 0 ≤ o_j < 1, else nothing.
-        let keep = L::select(L::le(zero, o[j]), L::select(L::lt(o[j], one), ninf, inf), inf);
+        let keep = L::select(
+            L::le(zero, o[j]),
+            L::select(L::lt(o[j], one), ninf, inf),
+            inf,
+        );
         lo = lo.max(L::select(dz, keep, a.min(b)));
         hi = hi.min(L::select(dz, inf, a.max(b)));
     }
@@ -482,57 +486,111 @@ fn kernel<L: Lane, const D: usize>(n: &[f32; D], h: f32, o: [L; D], d: [L; D], t
 // ---------------------------------------------------------------------------
 // Volume (standard form).
 
-/// `vol{y ∈ [0, 1]² : m0·y0 + m1·y1 ≤ s}` for `m ≥ 0`: `∫₀¹ L(y) dy` along the
-/// axis with the smaller coefficient, `L` the exact section length (piecewise
-/// linear, two kinks), integrated by trapezoids between the kinks. Every term is
-/// `≥ 0`; the section numerators `s − m_b·y` are double-double.
+/// The section area `A(σ) = vol{y ∈ [0, 1]² : a·y0 + b·y1 ≤ σ}` (`a ≥ b ≥ 0`)
+/// is piecewise polynomial in `σ` with knots at the corner values `0, b, a, a + b`:
+///
+/// ```text
+/// r = 0:  0 ≤ σ ≤ b       A = σ²/(2ab)
+/// r = 1:  b ≤ σ ≤ a       A = (2σ − b)/(2a)
+/// r = 2:  a ≤ σ ≤ a + b   A = 1 − (a + b − σ)²/(2ab)
+/// ```
+///
+/// (0 below, 1 above). Each form is evaluated where it has no cancellation
+/// (`2σ − b ≥ σ` in piece 1, `A ≥ 1/2` in piece 2), and also just outside its
+/// piece (the polynomial continuation, as Simpson's rule needs).
+fn area_piece(r: usize, sigma: Dd, a: f64, b: f64) -> f64 {
+    match r {
+        0 => {
+            let x = sigma.hi;
+            x / (2.0 * a) * (x / b)
+        }
+        1 => sigma.add(sigma).sub(Dd::new(b)).hi / (2.0 * a),
+        _ => {
+            let u = Dd::new(a).add(Dd::new(b)).sub(sigma).hi;
+            1.0 - u / (2.0 * a) * (u / b)
+        }
+    }
+}
+
+/// `a ≥ b` from two coefficients.
+fn order2(m0: f64, m1: f64) -> (f64, f64) {
+    if m0 >= m1 {
+        (m0, m1)
+    } else {
+        (m1, m0)
+    }
+}
+
+/// `x ≤ y` for double-double numbers.
+fn dd_le(x: Dd, y: Dd) -> bool {
+    x.sub(y).hi <= 0.0
+}
+
+/// `vol{y ∈ [0, 1]² : m0·y0 + m1·y1 ≤ s}` for `m ≥ 0`, from the piecewise form
+/// of [`area_piece`] (every term `≥ 0`).
 fn area2(m0: f64, m1: f64, s: Dd) -> f64 {
-    let (a, b) = if m0 >= m1 { (m0, m1) } else { (m1, m0) };
+    let (a, b) = order2(m0, m1);
     if s.hi < 0.0 {
         return 0.0;
     }
     if a == 0.0 {
         return 1.0;
     }
-    if s.sub(Dd::new(a)).sub(Dd::new(b)).hi >= 0.0 {
+    let r = if dd_le(s, Dd::new(b)) && b > 0.0 {
+        0
+    } else if dd_le(s, Dd::new(a)) {
+        1
+    } else if dd_le(s, Dd::new(a).add(Dd::new(b))) {
+        2
+    } else {
         return 1.0;
-    }
-    let len = |y: f64| (s.sub(Dd::prod(b, y)).hi / a).clamp(0.0, 1.0);
-    if b == 0.0 {
-        return len(0.0);
-    }
-    let ya = (s.sub(Dd::new(a)).hi / b).clamp(0.0, 1.0);
-    let yb = (s.hi / b).clamp(0.0, 1.0);
-    ya + (yb - ya) * 0.5 * (len(ya) + len(yb))
+    };
+    area_piece(r, s, a, b).clamp(0.0, 1.0)
 }
 
-/// `vol{y ∈ [0, 1]³ : m·y ≤ s}` for `m ≥ 0`, `0 < s < Σm`: Simpson's rule on the
-/// pieces between the kinks of the (piecewise quadratic) section area across the
-/// axis with the largest coefficient.
+/// `vol{y ∈ [0, 1]³ : m·y ≤ s}` for `m ≥ 0`, `0 < s < Σm`: slicing across the
+/// axis `z` with the largest `m_z`,
+/// `V = ∫₀¹ A(s − m_z t) dt = (1/m_z)·∫_{s − m_z}^{s} A(σ) dσ`, with the knots of
+/// `A` at the exact corner values `0, b, a, a + b` (not at rounded slice
+/// positions, which would put Simpson nodes on the wrong side of a knot where
+/// `A''` = `1/(ab)` is huge) and Simpson's rule per polynomial piece (exact).
 fn volume3(m: [f64; 3], s: Dd) -> f64 {
     let z = argmax(&m);
-    let (a, b) = ((z + 1) % 3, (z + 2) % 3);
     let mz = m[z];
-    let mut br = [0.0; 6];
-    br[0] = 0.0;
-    br[1] = 1.0;
-    let mut i = 2;
-    for (ca, cb) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
-        let num = s.sub(Dd::new(m[a] * ca)).sub(Dd::new(m[b] * cb));
-        br[i] = (num.hi / mz).clamp(0.0, 1.0);
-        i += 1;
+    let (a, b) = order2(m[(z + 1) % 3], m[(z + 2) % 3]);
+    if a == 0.0 {
+        // The section area is a step at σ = 0.
+        return (s.hi / mz).clamp(0.0, 1.0);
     }
-    br.sort_by(f64::total_cmp);
-    let area = |t: f64| area2(m[a], m[b], s.sub(Dd::prod(mz, t)));
+    let lo = s.sub(Dd::new(mz));
+    let knots = [
+        Dd::new(0.0),
+        Dd::new(b),
+        Dd::new(a),
+        Dd::new(a).add(Dd::new(b)),
+    ];
     let mut v = 0.0;
-    for w in br.windows(2) {
-        let (lo, hi) = (w[0], w[1]);
-        if hi > lo {
-            let mid = 0.5 * (lo + hi);
-            v += (hi - lo) / 6.0 * (area(lo) + 4.0 * area(mid) + area(hi));
+    for r in 0..3 {
+        let p = if dd_le(lo, knots[r]) { knots[r] } else { lo };
+        let q = if dd_le(s, knots[r + 1]) {
+            s
+        } else {
+            knots[r + 1]
+        };
+        let w = q.sub(p).hi;
+        if w > 0.0 {
+            let mid = p.add(Dd::new(0.5 * w));
+            let f = |x| area_piece(r, x, a, b);
+            v += w / 6.0 * (f(p) + 4.0 * f(mid) + f(q));
         }
     }
-    v
+    // Full slices: σ ≥ a + b.
+    let p = if dd_le(lo, knots[3]) { knots[3] } else { lo };
+    let w = s.sub(p).hi;
+    if w > 0.0 {
+        v += w;
+    }
+    (v / mz).clamp(0.0, 1.0)
 }
 
 fn argmax(m: &[f64; 3]) -> usize {
