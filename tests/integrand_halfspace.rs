@@ -2,6 +2,7 @@
 //! here (breakpoint sorting with midpoint classification, a cell enumeration by
 //! sorted face crossings, Gauss–Kronrod over exact cross-sections, nested
 //! Gauss–Kronrod Fourier integrals, double-double inclusion–exclusion).
+#![allow(clippy::needless_range_loop)]
 mod common;
 
 use common::{gk15, integrate};
