@@ -1210,7 +1210,32 @@ fn f32_batch_matches_scalar_and_f64() {
             }
         }
     }
-    // 2D, and the length check.
+    // 2D: bit identity for every batch length 0..=17.
+    for len in 0..=17usize {
+        let hs = HalfSpace::new(dir([0.6, -0.8]), 0.1 * len as f64 - 0.5).unwrap();
+        let mut v: Vec<Vec<f32>> = (0..6)
+            .map(|_| (0..len).map(|_| u() * 2.0 - 0.5).collect())
+            .collect();
+        for i in 0..len {
+            v[5][i] = v[4][i] + 2.0 * u();
+            if i % 4 == 1 {
+                v[2][i] = 0.0;
+            }
+        }
+        let rays = Rays32 {
+            origin: [&v[0], &v[1]],
+            dir: [&v[2], &v[3]],
+            t0: &v[4],
+            t1: &v[5],
+        };
+        let mut out = vec![f32::NAN; len];
+        hs.segment_free_batch_f32(&rays, &mut out).unwrap();
+        for i in 0..len {
+            let s = hs.segment_free_f32([v[0][i], v[1][i]], [v[2][i], v[3][i]], v[4][i], v[5][i]);
+            assert_eq!(out[i].to_bits(), s.to_bits(), "2D lane {i} of {len}");
+        }
+    }
+    // The length check.
     let hs = HalfSpace::new(dir([0.6, 0.8]), 0.5).unwrap();
     let z = [0.5f32; 9];
     let rays = Rays32 {
