@@ -760,7 +760,7 @@ fn cis(t: Dd) -> C64 {
 
 /// `exp[w_0, …, w_m]` at `w_i = −2πi θ_i` (sorts `θ` in place).
 fn simplex_dd(th: &mut [Dd]) -> C64 {
-    th.sort_by(|a, b| a.hi.total_cmp(&b.hi).then(a.lo.total_cmp(&b.lo)));
+    th.sort_unstable_by(|a, b| a.hi.total_cmp(&b.hi).then(a.lo.total_cmp(&b.lo)));
     let mut e = [C64::ZERO; 4];
     for (i, t) in th.iter().enumerate() {
         e[i] = cis(*t);
