@@ -54,10 +54,16 @@ fn dd_div(a: Dd, b: Dd) -> f64 {
     q + r.hi / b.hi
 }
 
-/// Length of `{t ∈ [t0, t1] : cell_lo ≤ p + tω ≤ cell_lo + 1, n·(p + tω − shift) ≥ h}`
-/// by sorting every candidate breakpoint and classifying the midpoint of each
-/// sub-interval in double-double. `zero_axis_open`: for `ω_j = 0` the box test is
-/// `0 ≤ p_j < 1` (free space) rather than closed.
+/// `a / b` as a double-double number.
+fn dd_quot(a: Dd, b: Dd) -> Dd {
+    let q = a.hi / b.hi;
+    let r = a.sub(b.mul(Dd::new(q)));
+    Dd::new(q).add(Dd::new(r.hi / b.hi))
+}
+
+/// Length of `{t ∈ [t0, t1] : p + tω ∈ [0,1)^D, n·(p + tω) ≥ h}` by sorting every
+/// candidate breakpoint (double-double) and classifying the midpoint of each
+/// sub-interval in double-double; lengths summed in double-double.
 fn ref_len<const D: usize>(
     n: &[f64; D],
     h: f64,
@@ -66,43 +72,53 @@ fn ref_len<const D: usize>(
     t0: f64,
     t1: f64,
 ) -> f64 {
-    let mut ts = vec![t0, t1];
+    let mut ts: Vec<Dd> = vec![];
+    for t in [t0, t1] {
+        if t.is_finite() {
+            ts.push(Dd::new(t));
+        }
+    }
     for j in 0..D {
         if w[j] != 0.0 {
             for b in [0.0, 1.0] {
-                ts.push(dd_div(Dd::new(b).sub(Dd::new(p[j])), Dd::new(w[j])));
+                ts.push(dd_quot(Dd::new(b).sub(Dd::new(p[j])), Dd::new(w[j])));
             }
         }
     }
     let g0 = dd_dot(n, p).sub(Dd::new(h));
     let c = dd_dot(n, w);
     if c.hi != 0.0 {
-        ts.push(dd_div(g0.neg(), c));
+        ts.push(dd_quot(g0.neg(), c));
     }
-    ts.retain(|t| *t >= t0 && *t <= t1 && t.is_finite());
-    ts.sort_by(f64::total_cmp);
-    let mut sum = 0.0;
+    ts.retain(|t| {
+        t.hi.is_finite()
+            && (t0 == f64::NEG_INFINITY || t.sub(Dd::new(t0)).hi >= 0.0)
+            && (t1 == f64::INFINITY || t.sub(Dd::new(t1)).hi <= 0.0)
+    });
+    ts.sort_by(|a, b| a.hi.total_cmp(&b.hi).then(a.lo.total_cmp(&b.lo)));
+    let mut sum = Dd::new(0.0);
     for k in 1..ts.len() {
         let (a, b) = (ts[k - 1], ts[k]);
-        if b <= a {
+        let len = b.sub(a);
+        if len.hi <= 0.0 {
             continue;
         }
-        let mid = a + 0.5 * (b - a);
+        let mid = a.add(len.mul(Dd::new(0.5)));
         let mut inside = true;
         for j in 0..D {
-            let x = Dd::new(p[j]).add(Dd::prod(mid, w[j]));
+            let x = Dd::new(p[j]).add(mid.mul(Dd::new(w[j])));
             if w[j] == 0.0 {
                 inside &= p[j] >= 0.0 && p[j] < 1.0;
             } else {
                 inside &= x.hi >= 0.0 && x.sub(Dd::new(1.0)).hi <= 0.0;
             }
         }
-        let g = g0.add(c.mul(Dd::new(mid)));
+        let g = g0.add(c.mul(mid));
         if inside && g.hi >= 0.0 {
-            sum += b - a;
+            sum = sum.add(len);
         }
     }
-    sum
+    sum.hi
 }
 
 /// Torus segment integral: sub-intervals between the sorted face crossings of
@@ -531,7 +547,8 @@ fn check_seg<const D: usize>(
     let n = hs.normal().get();
     let got = hs.segment_free(&p, &w, t0, t1);
     let r = ref_len(&n, hs.offset(), &p, &w.get(), t0, t1);
-    // Documented bound: 3ε(|lo| + |hi|), lo/hi bounded by the box chord.
+    // Documented bound: ε·len + 8ε²·(|lo| + |hi| + (Σ|n_j p_j| + |h|)/|n·ω|),
+    // with |lo|, |hi| bounded by the box chord parameters (doubled for slack).
     let bound = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
     let mut scale = 0.0f64;
     for j in 0..D {
@@ -539,10 +556,15 @@ fn check_seg<const D: usize>(
             scale = scale.max((p[j].abs() + 1.0) / w.get()[j].abs());
         }
     }
-    let tol = 3.0 * EPS * (bound(t0).min(scale) + bound(t1).min(scale) + scale) * 2.0 + 1e-300;
+    let c = dd_dot(&n, &w.get()).hi.abs();
+    let np: f64 = (0..D).map(|j| (n[j] * p[j]).abs()).sum::<f64>() + hs.offset().abs();
+    let cond = if c > 0.0 { np / c } else { 0.0 };
+    let tol = 2.0 * EPS * r
+        + 16.0 * EPS * EPS * (bound(t0).min(scale) + bound(t1).min(scale) + scale + cond)
+        + 1e-300;
     let err = (got - r).abs();
     assert!(
-        err <= tol.max(1e-13 * r),
+        err <= tol,
         "segment n={n:?} h={} p={p:?} w={:?} [{t0},{t1}]: {got} vs {r}",
         hs.offset(),
         w.get()

@@ -50,7 +50,7 @@
 
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
-use crate::geom::dd::Dd;
+use crate::geom::dd::{two_sum, Dd};
 use crate::geom::{frac, Direction};
 use crate::primitive::Rays32;
 use crate::simd::{load8, store8, Lane, LANES};
@@ -170,12 +170,17 @@ impl<const D: usize> HalfSpace<D> {
         g
     }
 
-    /// Length of `[lo, hi] ∩ {t : n·(p + tω) ≥ h}` (`(n·p − h) + t·n·ω` formed in
-    /// double-double), with the box slabs applied first when `boxed`; in a piece
-    /// (`!boxed`) only the coordinates with `ω_j = 0` are used, taken modulo 1.
+    /// Length of `[t0, t1] ∩ {t : n·(p + tω) ≥ h}`, with the box slabs applied
+    /// first when `boxed`; in a piece (`!boxed`) only the coordinates with
+    /// `ω_j = 0` are used, taken modulo 1. Every interval end is a double-double
+    /// number (`t0`, `t1` exactly; slab ends and the edge crossing as
+    /// double-double quotients of exact or double-double numerators), so the one
+    /// rounding that matters is the final `hi − lo`.
     #[inline]
-    fn clip(&self, p: &[f64; D], dir: &Direction<D>, mut lo: f64, mut hi: f64, boxed: bool) -> f64 {
+    fn clip(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64, boxed: bool) -> f64 {
         let w = dir.get();
+        let mut lo = Dd::new(t0);
+        let mut hi = Dd::new(t1);
         let mut q = *p;
         for j in 0..D {
             if w[j] == 0.0 {
@@ -187,11 +192,16 @@ impl<const D: usize> HalfSpace<D> {
                     q[j] = frac(p[j]);
                 }
             } else if boxed {
-                let a = -p[j] / w[j];
-                let b = (1.0 - p[j]) / w[j];
+                let wj = Dd::new(w[j]);
+                let a = dd_quot(Dd::new(-p[j]), wj);
+                let b = dd_quot(Dd::diff(1.0, p[j]), wj);
                 let (a, b) = if w[j] > 0.0 { (a, b) } else { (b, a) };
-                lo = lo.max(a);
-                hi = hi.min(b);
+                if dd_less(lo, a) {
+                    lo = a;
+                }
+                if dd_less(b, hi) {
+                    hi = b;
+                }
             }
         }
         let g = self.excess(&q);
@@ -204,14 +214,21 @@ impl<const D: usize> HalfSpace<D> {
                 return 0.0;
             }
         } else {
-            let ts = -g.hi / c.hi;
+            let ts = dd_quot(g.neg(), c);
             if c.hi > 0.0 {
-                lo = lo.max(ts);
-            } else {
-                hi = hi.min(ts);
+                if dd_less(lo, ts) {
+                    lo = ts;
+                }
+            } else if dd_less(ts, hi) {
+                hi = ts;
             }
         }
-        (hi - lo).max(0.0)
+        let len = if lo.hi.is_finite() && hi.hi.is_finite() {
+            hi.sub(lo).hi
+        } else {
+            hi.hi - lo.hi
+        };
+        len.max(0.0)
     }
 
     /// The Fourier coefficient of the standard-form region at `k'` (`k' ≠ 0`).
@@ -330,14 +347,16 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
     /// double-double coefficients; if the double-double `n·ω` is exactly zero the
     /// segment is parallel to the edge and kept iff `n·p ≥ h`.
     ///
-    /// **Error.** Every interval end is either `t0`, `t1` (exact), a slab end
-    /// (≤ 2 roundings) or `t*` (≤ 1.5 ulp for the given inputs), so the result
-    /// `hi − lo` has absolute error `≤ 3ε·(|lo| + |hi|)` with `ε = 2⁻⁵³`, `[lo, hi]`
-    /// the clipped interval: a few ulp relative when the interval is not much
-    /// shorter than its distance from `t = 0`, and `≲ 3ε·(|t0| + |t1| + 2|p|/|ω|)`
-    /// absolutely otherwise. Infinite `t0`/`t1` are fine (the box bounds the
-    /// result); `t0 > t1` returns 0; NaN inputs never panic (the result is then
-    /// unspecified).
+    /// **Error.** Every interval end is exact (`t0`, `t1`) or a double-double
+    /// quotient accurate to ≈ 2⁻¹⁰⁰ relative (slab ends `−p_j/ω_j`,
+    /// `(1 − p_j)/ω_j`, the crossing `t*` from the double-double `n·p − h` and
+    /// `n·ω`), and the length is one rounding of the double-double `hi − lo`:
+    /// `|err| ≤ ε·len + 8ε²·(|lo| + |hi| + (Σ|n_j p_j| + |h|)/|n·ω|)` with
+    /// `ε = 2⁻⁵³`, so a few ulp *relative* for the given inputs even when the
+    /// clipped interval is short and far from `t = 0` (the last term only matters
+    /// for `ω` within ~`1e−16` of the edge direction). Infinite `t0`/`t1` are fine
+    /// (the box bounds the result); `t0 > t1` returns 0; NaN inputs never panic
+    /// (the result is then unspecified).
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
         self.clip(p, dir, t0, t1, true)
     }
@@ -486,6 +505,29 @@ fn kernel<L: Lane, const D: usize>(n: &[f32; D], h: f32, o: [L; D], d: [L; D], t
     lo = L::select(cpos, lo.max(ts), L::select(cneg, lo, par));
     hi = L::select(cneg, hi.min(ts), hi);
     (hi - lo).max(zero)
+}
+
+/// `x / y` in double-double (one correction step with an exact remainder;
+/// relative error ≈ 2⁻¹⁰⁰); non-finite quotients are passed through.
+#[inline]
+fn dd_quot(x: Dd, y: Dd) -> Dd {
+    let q = x.hi / y.hi;
+    if !q.is_finite() {
+        return Dd::new(q);
+    }
+    let r = x.sub(y.mul(Dd::new(q)));
+    let (hi, lo) = two_sum(q, r.hi / y.hi);
+    Dd { hi, lo }
+}
+
+/// `x < y` for double-double numbers that may be infinite.
+#[inline]
+fn dd_less(x: Dd, y: Dd) -> bool {
+    if x.hi.is_finite() && y.hi.is_finite() {
+        x.sub(y).hi < 0.0
+    } else {
+        x.hi < y.hi
+    }
 }
 
 // ---------------------------------------------------------------------------
