@@ -14,9 +14,10 @@
 //!   length of a parameter interval, the intersection of `[t0, t1]`, the slabs
 //!   `0 ≤ p_j + t·ω_j ≤ 1` (Kay & Kajiya 1986) and one linear inequality
 //!   `(n·p − h) + t·(n·ω) ≥ 0`, whose coefficients are formed in double-double
-//!   (error-free products, Dekker 1971), so the edge crossing `t* = −(n·p − h)/(n·ω)`
-//!   is correct to ≈ 1.5 ulp *for the given inputs*, even when `ω` is nearly
-//!   parallel to the edge.
+//!   (error-free products, Dekker 1971); every interval end (slab ends and the
+//!   edge crossing `t* = −(n·p − h)/(n·ω)`) is a double-double quotient, so the
+//!   length is a few ulp *relative* for the given inputs, even when `ω` is nearly
+//!   parallel to the edge or the interval is short and far from `t = 0`.
 //! * Volume and Fourier coefficients use a **standard form**: reflecting the axes
 //!   with `n_j > 0` (`x_j = 1 − y_j`) maps the region to
 //!   `R = {y ∈ [0, 1]^D : m·y ≤ s}` with `m_j = |n_j| ≥ 0` and
