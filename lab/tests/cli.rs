@@ -392,3 +392,394 @@ fn poisson_disk_and_ccvt_patterns() {
     assert!(!o.status.success());
     assert!(stderr(&o).contains("--bridson"), "{}", stderr(&o));
 }
+
+/// The lines of a convergence CSV after the `#` comments: header, then rows.
+fn csv_table(path: &Path) -> (Vec<String>, Vec<String>, Vec<Vec<String>>) {
+    let text = fs::read_to_string(path).expect("read csv");
+    assert!(text.ends_with('\n'));
+    let comments: Vec<String> = text
+        .lines()
+        .take_while(|l| l.starts_with('#'))
+        .map(str::to_owned)
+        .collect();
+    let mut rest = text.lines().skip(comments.len());
+    let header: Vec<String> = rest
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = rest
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    (comments, header, rows)
+}
+
+fn no_tmp_files(dir: &TempDir) {
+    assert!(
+        dir.files()
+            .iter()
+            .all(|f| !f.to_string_lossy().ends_with(".tmp")),
+        "{:?}",
+        dir.files()
+    );
+}
+
+const CONVERGENCE_HEADER: &str =
+    "n,realisations,mean,mean_se,exact,bias_z,variance,variance_se,var_times_n";
+
+#[test]
+fn convergence_writes_csv_and_svg() {
+    let dir = TempDir::new("convergence");
+    let o = lab(
+        &dir,
+        &[
+            "convergence",
+            "--integrand",
+            "disk",
+            "--dims",
+            "2",
+            "--primitive",
+            "points",
+            "--sampler",
+            "jittered",
+            "--n",
+            "16,64",
+            "--realisations",
+            "50",
+            "--out",
+            "res/disk",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("slope of log Var vs log N"), "{stdout}");
+    assert!(
+        stdout.contains("bias z") && stdout.contains("Var*N"),
+        "{stdout}"
+    );
+
+    let (comments, header, rows) = csv_table(&dir.path().join("res/disk.csv"));
+    assert_eq!(header.join(","), CONVERGENCE_HEADER);
+    assert!(comments
+        .iter()
+        .any(|c| c == "# homogenised: random toroidal shift per realisation"));
+    assert!(
+        comments.iter().any(|c| c.starts_with(
+            "# linesample-lab convergence --integrand disk --dims 2 --radius 0.25 \
+             --primitive points --sampler jittered --n 16,64 --realisations 50 --seed 1"
+        )),
+        "{comments:?}"
+    );
+    assert_eq!(rows.len(), 2, "{rows:?}");
+    for (row, n) in rows.iter().zip(["16", "64"]) {
+        assert_eq!(row.len(), 9, "{row:?}");
+        assert_eq!(row[0], n);
+        assert_eq!(row[1], "50");
+        let v: Vec<f64> = row[2..].iter().map(|x| x.parse().unwrap()).collect();
+        let (mean, exact, z, var, var_se) = (v[0], v[2], v[3], v[4], v[5]);
+        assert!(
+            (exact - std::f64::consts::PI / 16.0).abs() < 1e-12,
+            "{exact}"
+        );
+        assert!((mean - exact).abs() < 0.05, "{mean}");
+        assert!(z.abs() < 6.0, "{z}");
+        assert!(var > 0.0 && var_se > 0.0 && var_se < var, "{row:?}");
+    }
+
+    let svg = fs::read_to_string(dir.path().join("res/disk.svg")).unwrap();
+    assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("disk 2D, points, jittered, R = 50"), "title");
+    // Two data points and the legend marker; four dashed reference lines and the
+    // legend sample.
+    assert_eq!(svg.matches("<circle ").count(), 3);
+    assert_eq!(svg.matches("stroke-dasharray").count(), 5);
+    no_tmp_files(&dir);
+    assert_eq!(
+        dir.files(),
+        vec![PathBuf::from("res/disk.csv"), PathBuf::from("res/disk.svg")]
+    );
+}
+
+#[test]
+fn convergence_is_independent_of_the_thread_count() {
+    let dir = TempDir::new("convergence-threads");
+    for (prim, extra) in [
+        ("points", &[][..]),
+        ("lines", &["--sampler", "random"][..]),
+        ("segments", &["--groups", "2", "--length", "0.3"][..]),
+    ] {
+        let run = |threads: &str| {
+            let out = format!("{prim}-t{threads}");
+            let mut args = vec![
+                "convergence",
+                "--primitive",
+                prim,
+                "--n",
+                "16,36",
+                "--realisations",
+                "100",
+                "--seed",
+                "5",
+                "--threads",
+                threads,
+                "--out",
+                out.as_str(),
+            ];
+            args.extend(extra);
+            let o = lab(&dir, &args);
+            assert!(o.status.success(), "{args:?}: {}", stderr(&o));
+            (
+                fs::read(dir.path().join(format!("{out}.csv"))).unwrap(),
+                fs::read(dir.path().join(format!("{out}.svg"))).unwrap(),
+            )
+        };
+        let one = run("1");
+        assert_eq!(one, run("2"), "{prim}: --threads 2 differs");
+        assert_eq!(one, run("3"), "{prim}: --threads 3 differs");
+    }
+    no_tmp_files(&dir);
+}
+
+#[test]
+fn convergence_rounds_jittered_counts_and_has_a_default_path() {
+    let dir = TempDir::new("convergence-round");
+    let o = lab(
+        &dir,
+        &["convergence", "--n", "10,60", "--realisations", "8"],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("--n 60 -> N = 64"), "{stdout}");
+    assert!(stdout.contains("--n 10 -> N = 9"), "{stdout}");
+    let (comments, _, rows) = csv_table(
+        &dir.path()
+            .join("out/convergence/disk-2d-points-jittered.csv"),
+    );
+    assert!(comments.iter().any(|c| c.contains("--n 60 -> N = 64")));
+    let ns: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(ns, ["9", "64"]);
+    assert!(dir
+        .path()
+        .join("out/convergence/disk-2d-points-jittered.svg")
+        .is_file());
+    // Lines in 3D use a 2D offset pattern: 100 is already a square.
+    let o = lab(
+        &dir,
+        &[
+            "convergence",
+            "--integrand",
+            "ball",
+            "--dims",
+            "3",
+            "--primitive",
+            "lines",
+            "--n",
+            "4,100",
+            "--realisations",
+            "8",
+            "--out",
+            "b",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let (_, _, rows) = csv_table(&dir.path().join("b.csv"));
+    let ns: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
+    assert_eq!(ns, ["4", "100"]);
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("note:"));
+}
+
+#[test]
+fn convergence_bad_input_fails_cleanly() {
+    let dir = TempDir::new("convergence-bad");
+    for (args, names) in [
+        (&["--length", "0.1"][..], "--length"),
+        (&["--integrand", "disk", "--dims", "3"][..], "--dims 3"),
+        (&["--dims", "4"][..], "--dims"),
+        (&["--radius", "0.7"][..], "--radius"),
+        (&["--radius", "nan"][..], "--radius"),
+        (
+            &["--integrand", "gaussian", "--radius", "0.1"][..],
+            "--radius",
+        ),
+        (&["--integrand", "gaussian", "--sigma", "-1"][..], "--sigma"),
+        (&["--integrand", "edge", "--normal", "0,0"][..], "--normal"),
+        (
+            &["--integrand", "edge", "--normal", "1,0,0"][..],
+            "--normal",
+        ),
+        (&["--integrand", "edge", "--offset", "inf"][..], "--offset"),
+        (&["--integrand", "ball", "--offset", "0.5"][..], "--offset"),
+        (&["--integrand", "nope"][..], "--integrand"),
+        (
+            &["--primitive", "lines", "--sampler", "cmj"][..],
+            "--sampler cmj",
+        ),
+        (
+            &[
+                "--sampler",
+                "multi-jittered",
+                "--dims",
+                "3",
+                "--integrand",
+                "ball",
+            ][..],
+            "--dims 3",
+        ),
+        (&["--primitive", "points", "--groups", "2"][..], "--groups"),
+        (
+            &["--primitive", "points", "--random-direction"][..],
+            "--random-direction",
+        ),
+        (&["--primitive", "lines", "--groups", "0"][..], "--groups"),
+        (
+            &["--primitive", "lines", "--direction", "0,0"][..],
+            "--direction",
+        ),
+        (
+            &["--primitive", "lines", "--direction", "1,0,0"][..],
+            "--direction",
+        ),
+        (
+            &[
+                "--primitive",
+                "lines",
+                "--direction",
+                "1,0",
+                "--random-direction",
+            ][..],
+            "--direction",
+        ),
+        (
+            &["--primitive", "segments", "--length", "-1"][..],
+            "--length",
+        ),
+        (
+            &["--primitive", "segments", "--groups", "4", "--n", "2"][..],
+            "--groups 4",
+        ),
+        (&["--n", "0"][..], "--n"),
+        (&["--n", "16,17"][..], "--n"),
+        (&["--n", "x"][..], "--n"),
+        (&["--realisations", "2"][..], "--realisations"),
+        (&["--threads", "0"][..], "--threads"),
+    ] {
+        let mut full = vec!["convergence"];
+        full.extend(args);
+        if !args.contains(&"--realisations") {
+            full.extend(["--realisations", "8"]);
+        }
+        if !args.contains(&"--n") {
+            full.extend(["--n", "4,16"]);
+        }
+        full.extend(["--out", "res/c"]);
+        let o = lab(&dir, &full);
+        let err = stderr(&o);
+        assert!(!o.status.success(), "{full:?} succeeded");
+        assert!(err.starts_with("error: "), "{full:?}: {err}");
+        assert!(
+            err.contains(names),
+            "{full:?}: {err:?} should mention {names:?}"
+        );
+        assert!(dir.files().is_empty(), "{full:?} left {:?}", dir.files());
+    }
+}
+
+#[test]
+fn convergence_help_is_specific() {
+    let dir = TempDir::new("convergence-help");
+    let o = lab(&dir, &["convergence", "--help"]);
+    assert!(o.status.success());
+    let h = String::from_utf8_lossy(&o.stdout);
+    for s in [
+        "variance",
+        "toroidal shift",
+        "weighted least squares",
+        "PREFIX.csv",
+        "PREFIX.svg",
+        "bias z-score",
+        "--threads",
+        "--groups",
+        "m^d'",
+        "bit-identical",
+    ] {
+        assert!(h.contains(s), "help lacks {s}");
+    }
+}
+
+#[test]
+fn convergence_runs_every_integrand_and_primitive() {
+    let dir = TempDir::new("convergence-all");
+    for (i, args) in [
+        &[
+            "--integrand",
+            "gaussian",
+            "--dims",
+            "3",
+            "--primitive",
+            "segments",
+        ][..],
+        &[
+            "--integrand",
+            "edge",
+            "--primitive",
+            "lines",
+            "--direction",
+            "1,2",
+        ][..],
+        &[
+            "--integrand",
+            "edge",
+            "--dims",
+            "3",
+            "--primitive",
+            "points",
+            "--sampler",
+            "sobol",
+        ][..],
+        &[
+            "--integrand",
+            "ball",
+            "--dims",
+            "3",
+            "--primitive",
+            "lines",
+            "--groups",
+            "3",
+        ][..],
+        &[
+            "--integrand",
+            "disk",
+            "--primitive",
+            "segments",
+            "--random-direction",
+            "--sampler",
+            "cmj",
+        ][..],
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let out = format!("r{i}");
+        let mut full = vec![
+            "convergence",
+            "--n",
+            "8,27",
+            "--realisations",
+            "40",
+            "--out",
+            &out,
+        ];
+        full.extend(args);
+        let o = lab(&dir, &full);
+        assert!(o.status.success(), "{full:?}: {}", stderr(&o));
+        let (_, header, rows) = csv_table(&dir.path().join(format!("{out}.csv")));
+        assert_eq!(header.join(","), CONVERGENCE_HEADER);
+        assert_eq!(rows.len(), 2, "{full:?}");
+        for r in &rows {
+            let z: f64 = r[5].parse().unwrap();
+            assert!(z.abs() < 6.0, "{full:?}: bias z = {z}");
+        }
+    }
+    no_tmp_files(&dir);
+}
