@@ -111,7 +111,12 @@ pub fn svg(p: &LogLog<'_>) -> String {
             ys.push(fit_at(f, xmax));
         }
     }
-    let (y0, y1) = decades(ys.into_iter());
+    // A little headroom so no point or bar end sits on the frame.
+    let (y0, y1) = decades(
+        ys.iter()
+            .map(|&y| y - 0.05)
+            .chain(ys.iter().map(|&y| y + 0.05)),
+    );
     let sx = |lx: f64| LEFT + (lx - x0) / (x1 - x0) * pw;
     let sy = |ly: f64| TOP + ph - (ly - y0) / (y1 - y0) * ph;
 
