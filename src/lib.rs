@@ -5,9 +5,18 @@
 //! Convergence Analysis of Monte Carlo Line and Segment Sampling* (EGSR 2017,
 //! doi:10.1111/cgf.13226).
 //!
-//! This release provides SIMD-batched, seed-deterministic sample patterns
-//! ([`pattern`], including toroidal Poisson disk and CCVT blue noise) and the
-//! random numbers behind them ([`rng`], [`hash`]).
+//! This release provides
+//!
+//! * SIMD-batched, seed-deterministic sample patterns ([`pattern`], including
+//!   toroidal Poisson disk and CCVT blue noise) and the random numbers behind
+//!   them ([`rng`], [`hash`]);
+//! * integrands with closed-form point, segment and line integrals and Fourier
+//!   coefficients ([`integrand`]: ball/disk, Gaussian, half-space), each with an
+//!   `f64` path accurate to a few ulp in the hard cases (tangent lines, far
+//!   Gaussian tails, tiny segments) and an `f32` SIMD batch path over
+//!   [`primitive::Rays32`];
+//! * point, segment and line estimators over any pattern ([`estimator`]) and
+//!   mergeable running statistics ([`stats`]).
 //!
 //! ## Quick start
 //!
