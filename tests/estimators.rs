@@ -402,3 +402,23 @@ fn convergence_3d_lines() {
         -1.0,
     );
 }
+
+/// Found by the fuzzers: a subnormal length used to halve inexactly (so the
+/// mean exceeded the maximum); it is now the point value, for every integrand.
+#[test]
+fn subnormal_segment_lengths_are_points() {
+    use linesample::primitive::Segment;
+    let disk = Ball::<2>::new([2.6e-270, 1.9e-288], 4.48e-120).unwrap();
+    let gauss = Gaussian::<2>::new([8.3e-141, 2.6e-260], 0.0365).unwrap();
+    let edge = HalfSpace::<2>::new(dir([1.0, -0.3]), 0.2).unwrap();
+    let fs: [&dyn Integrand<2>; 3] = [&disk, &gauss, &edge];
+    let c = [3.3e-274, 7.7e-121];
+    for f in fs {
+        for len in [1.26e-321, 2.99e-319, 4e-310, 0.0] {
+            let s = Segment::new(c, dir([-1.9e260, 9.1e-97]), len).unwrap();
+            let m = f.segment_mean(&s);
+            assert_eq!(m, f.value(&c), "{f:?} λ = {len:e}");
+            assert!(m <= f.max_value());
+        }
+    }
+}

@@ -48,10 +48,16 @@ pub struct Complex {
 }
 
 impl Complex {
-    /// `|z|²`.
+    /// `|z|²` (underflows for `|z| < 1e−154`; see [`Complex::abs`]).
     #[must_use]
     pub fn norm_sqr(self) -> f64 {
         self.re * self.re + self.im * self.im
+    }
+
+    /// `|z|`, without intermediate overflow or underflow (`hypot`).
+    #[must_use]
+    pub fn abs(self) -> f64 {
+        libm::hypot(self.re, self.im)
     }
 }
 
@@ -119,9 +125,10 @@ pub trait Integrand<const D: usize>: core::fmt::Debug + Send + Sync {
     }
 
     /// The segment average `(1/λ)·∫ f` (the segment estimator's summand); the
-    /// point value `f(c)` at `λ = 0`, and continuous as `λ → 0`.
+    /// point value `f(c)` at `λ = 0`, and continuous as `λ → 0`. A subnormal
+    /// length (`λ < 2⁻¹⁰²²`, where `λ/2` would round) is treated as `λ = 0`.
     fn segment_mean(&self, seg: &Segment<D>) -> f64 {
-        if seg.length() == 0.0 {
+        if seg.length() < f64::MIN_POSITIVE {
             self.value(&seg.centre())
         } else {
             self.segment_integral(seg) / seg.length()

@@ -63,7 +63,7 @@ pub fn check<const D: usize>(
         let ft = f.fourier(&p.k);
         assert!(ft.re.is_finite() && ft.im.is_finite(), "fourier {ft:?}");
         assert!(
-            ft.norm_sqr().sqrt() <= integral * (1.0 + 1e-9) + 1e-300,
+            ft.abs() <= integral * (1.0 + 1e-9) + 1e-300,
             "fourier {ft:?} > {integral}"
         );
         let Ok(dir) = Direction::new(p.dir) else {
