@@ -408,7 +408,7 @@ fn convergence_3d_lines() {
 #[test]
 fn subnormal_segment_lengths_are_points() {
     use linesample::primitive::Segment;
-    let disk = Ball::<2>::new([2.6e-270, 1.9e-288], 4.48e-120).unwrap();
+    let disk = Ball::<2>::new([2.6e-270, 1.9e-288], 1e-100).unwrap();
     let gauss = Gaussian::<2>::new([8.3e-141, 2.6e-260], 0.0365).unwrap();
     let edge = HalfSpace::<2>::new(dir([1.0, -0.3]), 0.2).unwrap();
     let fs: [&dyn Integrand<2>; 3] = [&disk, &gauss, &edge];

@@ -49,7 +49,8 @@ const TWO_PI: Dd = Dd {
 /// ends do not cut the chord, and an **absolute** error of about
 /// `2u·(|t0| + |t1| + |t−| + |t+|)` when they do (the clipped length is a
 /// difference of two parameters). The domain is `|p − c| ≲ 10¹⁵⁰` and
-/// `r ≳ 10⁻¹⁵⁰` (no overflow or underflow of the squares).
+/// `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so the squares neither
+/// overflow nor underflow.
 ///
 /// The `f32` batch path ([`Ball::segment_free_batch_f32`], one kernel generic
 /// over the crate's `f32` lane type) uses the plain formula in `f32` with a
@@ -82,6 +83,11 @@ pub struct Ball<const D: usize> {
 }
 
 impl<const D: usize> Ball<D> {
+    /// Smallest accepted radius, `10⁻¹⁰⁰`: below about `10⁻¹⁵⁰` the squared
+    /// quantities of the double-double chord underflow (found by fuzzing: a
+    /// chord of a `10⁻¹⁵⁹` ball exceeded its diameter by `1.4e−7` relative).
+    pub const RADIUS_MIN: f64 = 1e-100;
+
     /// The ball of radius `radius` centred at `centre` (taken modulo 1, exactly:
     /// the free-space function [`Integrand::value_free`] and the `f32` path use
     /// the reduced centre `frac(c) ∈ [0, 1)^D`).
@@ -89,18 +95,18 @@ impl<const D: usize> Ball<D> {
     /// # Errors
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
     /// (`centre`, `radius`); [`ParamError::OutOfRange`] (`radius`) unless
-    /// `0 < r ≤ 1/2`.
+    /// [`Ball::RADIUS_MIN`] `≤ r ≤ 1/2`.
     pub fn new(centre: [f64; D], radius: f64) -> Result<Self, ParamError> {
         check_dim::<D>()?;
         check_finite("centre", &centre)?;
         if !radius.is_finite() {
             return Err(ParamError::NonFinite { name: "radius" });
         }
-        if !(radius > 0.0 && radius <= 0.5) {
+        if !(radius >= Self::RADIUS_MIN && radius <= 0.5) {
             return Err(ParamError::OutOfRange {
                 name: "radius",
                 value: radius,
-                min: 0.0,
+                min: Self::RADIUS_MIN,
                 max: 0.5,
             });
         }

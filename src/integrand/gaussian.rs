@@ -222,6 +222,13 @@ impl<const D: usize> Gaussian<D> {
         } else {
             (u0, u1, s0)
         };
+        if v0 > 40.0 {
+            // The whole segment is more than 40 scaled units beyond the foot
+            // point: the value is below e^{−1600}·(prefactor ≤ 1e12), i.e. 0 in
+            // f64. Returning early also avoids overflowing squares for huge
+            // parameters (found by fuzzing: |t| ≈ 1e217 gave NaN).
+            return 0.0;
+        }
         let dv = (t1 - t0) * inv; // v1 − v0, relative error of a few ulp
         let delta = dv * (v1 + v0); // v1² − v0²
         if delta >= 1.0 {

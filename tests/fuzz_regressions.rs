@@ -1,0 +1,63 @@
+//! Inputs the integrand fuzzers found (fuzz/fuzz_targets/integrand_*.rs), kept
+//! as unit tests so every CI run checks them (the subnormal-length finding is in
+//! tests/estimators.rs).
+
+use linesample::geom::Direction;
+use linesample::integrand::{Ball, Gaussian, HalfSpace, Integrand};
+use linesample::primitive::Line;
+
+/// A ball of radius 1.28e-159 gave a chord 1.4e-7 longer than its diameter
+/// (the double-double squares underflowed): such radii are now rejected.
+#[test]
+fn tiny_balls_are_rejected() {
+    let err = Ball::<2>::new([-2.43e305, -1.86e272], 1.2825200591993592e-159).unwrap_err();
+    assert!(err.to_string().contains("radius"), "{err}");
+    // At the smallest accepted radius the chord stays within the diameter.
+    let r = Ball::<2>::RADIUS_MIN;
+    let b = Ball::<2>::new([0.5, 0.5], r).unwrap();
+    let d = Direction::new([1.4e-305, -5.3e-137]).unwrap();
+    for off in [0.0, 0.3, 0.9, 0.999_999] {
+        let v = b.segment_free(&[0.5 + off * r, 0.5], &d, f64::NEG_INFINITY, f64::INFINITY);
+        assert!((0.0..=2.0 * r).contains(&v), "{off}: {v:e}");
+    }
+}
+
+/// Parameters near 1e217 overflowed the squared distance and returned NaN.
+#[test]
+fn gaussian_far_parameters_give_zero_not_nan() {
+    let g = Gaussian::<2>::new([3.28e-140, 3.42e-106], 0.0012589287694449447).unwrap();
+    let d = Direction::new([8.996194290343995e-265, -9.42022705542258e215]).unwrap();
+    let p = [-2.6096760944064273e-189, 0.0];
+    let v = g.segment_free(&p, &d, -1.0773201020961902e217, -9.275914482822377e212);
+    assert_eq!(v, 0.0);
+    let v = g.segment_free(&p, &d, 9.275914482822377e212, 1.0773201020961902e217);
+    assert_eq!(v, 0.0);
+    // Straddling with huge ends is the whole line.
+    let line = g.segment_free(&p, &d, -1e217, 1e217);
+    let whole = g.segment_free(&p, &d, f64::NEG_INFINITY, f64::INFINITY);
+    assert_eq!(line, whole);
+    assert!(whole.is_finite() && whole >= 0.0);
+}
+
+/// A line given through a far point (1.6e11, 1.6e11) lost 1e-6 of its chord to
+/// cancellation in the box clipping; lines are now stored by their point
+/// nearest to the box centre.
+#[test]
+fn far_line_points_keep_the_chord_exact() {
+    let h = HalfSpace::<2>::new(Direction::new([-1.0, -1.7e-193]).unwrap(), -5.958e8).unwrap();
+    let d = Direction::new([1.0, 1.0]).unwrap();
+    let far = Line::new([156842099844.51764, 156842099844.51764], d).unwrap();
+    let near = Line::new([0.5, 0.5], d).unwrap();
+    let v = h.line_integral(&far);
+    assert!((v - 2f64.sqrt()).abs() <= 4.0 * f64::EPSILON, "{v}");
+    assert!((v - h.line_integral(&near)).abs() <= 4.0 * f64::EPSILON);
+    // The stored point is the one nearest to the box centre.
+    let p = far.point();
+    assert!(
+        (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
+        "{p:?}"
+    );
+    // Same for the other integrands.
+    let b = Ball::<2>::new([0.5, 0.5], 0.25).unwrap();
+    assert!((b.line_integral(&far) - 0.5).abs() <= 2.0 * f64::EPSILON);
+}
