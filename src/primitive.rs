@@ -96,10 +96,11 @@ pub struct Line<const D: usize> {
 impl<const D: usize> Line<D> {
     /// The line through `point` with direction `dir`.
     ///
-    /// The stored point ([`Line::point`]) is the point of the line nearest to
-    /// the box centre `(½, …, ½)`: `p + τω` with `τ = (c − p)·ω/|ω|²`, formed in
-    /// double-double and rounded (so it lies within half an ulp per coordinate
-    /// of the exact line). Clipping to the box then works with parameters of
+    /// The stored point ([`Line::point`]) is (nearly) the point of the line
+    /// nearest to the box centre `c = (½, …, ½)`: `p + τω` with
+    /// `τ ≈ (c − p)·ω/|ω|²` rounded to a double, and `p + τω` formed in
+    /// double-double and rounded, so it lies within half an ulp per coordinate
+    /// of the exact line (and within `ulp(τ)` of the foot point along it). Clipping to the box then works with parameters of
     /// size `≤ √D`, instead of cancelling when `point` is far away (found by
     /// fuzzing: a line through `(1.6e11, 1.6e11)` had a chord error of `1e−6`).
     ///
@@ -160,7 +161,7 @@ impl<const D: usize> Line<D> {
         Self { point, dir }
     }
 
-    /// A point on the line: the one nearest to the box centre (see
+    /// A point on the line, (nearly) the one nearest to the box centre (see
     /// [`Line::new`]).
     #[inline]
     #[must_use]
