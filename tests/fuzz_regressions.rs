@@ -51,12 +51,11 @@ fn far_line_points_keep_the_chord_exact() {
     let v = h.line_integral(&far);
     assert!((v - 2f64.sqrt()).abs() <= 4.0 * f64::EPSILON, "{v}");
     assert!((v - h.line_integral(&near)).abs() <= 4.0 * f64::EPSILON);
-    // The stored point is the one nearest to the box centre.
+    // The stored point lies on the line (x = y) near the box centre (τ is
+    // rounded, so it moves along the line by up to ulp(τ)).
     let p = far.point();
-    assert!(
-        (p[0] - 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15,
-        "{p:?}"
-    );
+    assert_eq!(p[0], p[1]);
+    assert!((p[0] - 0.5).abs() < 1e-4, "{p:?}");
     // Same for the other integrands.
     let b = Ball::<2>::new([0.5, 0.5], 0.25).unwrap();
     assert!((b.line_integral(&far) - 0.5).abs() <= 2.0 * f64::EPSILON);
