@@ -60,3 +60,16 @@ fn far_line_points_keep_the_chord_exact() {
     let b = Ball::<2>::new([0.5, 0.5], 0.25).unwrap();
     assert!((b.line_integral(&far) - 0.5).abs() <= 2.0 * f64::EPSILON);
 }
+
+/// A tangent line with a tiny chord (half chord 2.6e-99 at t ≈ 4.9e-33, where
+/// `t ± h` round to `t`) was returned whole for a zero-length segment.
+#[test]
+fn ball_chord_never_exceeds_the_segment() {
+    let r = 4.8578750597249806e-33;
+    let b = Ball::<2>::new([2.3085228502446436e-283, 1.0998657917027512e247], r).unwrap();
+    let d = Direction::new([-9.239234115397806e32, 4.8578750597497736e-33]).unwrap();
+    let p = [r, r];
+    assert_eq!(b.segment_free(&p, &d, r, r), 0.0);
+    let v = b.segment_free(&p, &d, r, f64::INFINITY);
+    assert!(v <= 2.0 * r, "{v:e}");
+}

@@ -290,7 +290,10 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
     let tm = tau - b.to_f64() / af;
     let (lo, hi) = (tm - h, tm + h);
     if t0 <= lo && hi <= t1 {
-        return 2.0 * h;
+        // Unclipped; still never longer than the segment itself (when
+        // `tm ± h` round onto a zero-length segment far out on the line, found
+        // by fuzzing).
+        return (2.0 * h).min(t1 - t0);
     }
     (t1.min(hi) - t0.max(lo)).max(0.0)
 }
