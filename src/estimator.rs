@@ -31,10 +31,10 @@
 use crate::error::{EstimateError, ParamError};
 #[cfg(test)]
 use crate::geom::dot;
-use crate::geom::{frac, Direction, MAX_SEGMENT_LENGTH};
+use crate::geom::{frac, Direction};
 use crate::integrand::Integrand;
 use crate::pattern::{Pattern, Shifted};
-use crate::primitive::{Line, Segment};
+use crate::primitive::{check_length, Line, Segment};
 use crate::rng::{mix64, Seed};
 use crate::stats::RunningStats;
 
@@ -176,6 +176,27 @@ fn check_groups<const D: usize>(dirs: &Directions<'_, D>) -> Result<usize, Param
     }
 }
 
+/// Runs `group(seed, direction)` once per direction group (`None`: random
+/// directions) and averages: group `j` of a [`Directions::Groups`] list gets
+/// its own seed stream, so its pattern realisation is independent.
+fn over_groups<const D: usize>(
+    dirs: &Directions<'_, D>,
+    seed: Seed,
+    mut group: impl FnMut(Seed, Option<Direction<D>>) -> Result<f64, EstimateError>,
+) -> Result<f64, EstimateError> {
+    match *dirs {
+        Directions::Fixed(d) => group(seed, Some(d)),
+        Directions::Random => group(seed, None),
+        Directions::Groups(g) => {
+            let mut sum = 0.0;
+            for (j, d) in g.iter().enumerate() {
+                sum += group(Seed::new(seed.stream(GROUP_PURPOSE ^ j as u64)), Some(*d))?;
+            }
+            Ok(sum / g.len() as f64)
+        }
+    }
+}
+
 fn check_estimator_dim<const D: usize>() -> Result<(), ParamError> {
     if D == 2 || D == 3 {
         Ok(())
@@ -276,7 +297,7 @@ impl<const D: usize> core::fmt::Debug for SegmentEstimator<'_, D> {
 }
 
 impl<'p, const D: usize> SegmentEstimator<'p, D> {
-    /// Segments of length `λ` (`0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`]; `λ = 0` is the
+    /// Segments of length `λ` (`0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`](crate::geom::MAX_SEGMENT_LENGTH); `λ = 0` is the
     /// point estimator).
     ///
     /// # Errors
@@ -288,17 +309,7 @@ impl<'p, const D: usize> SegmentEstimator<'p, D> {
         dirs: Directions<'p, D>,
     ) -> Result<Self, ParamError> {
         check_estimator_dim::<D>()?;
-        if !length.is_finite() {
-            return Err(ParamError::NonFinite { name: "length" });
-        }
-        if !(0.0..=MAX_SEGMENT_LENGTH).contains(&length) {
-            return Err(ParamError::OutOfRange {
-                name: "length",
-                value: length,
-                min: 0.0,
-                max: MAX_SEGMENT_LENGTH,
-            });
-        }
+        check_length(length)?;
         let groups = check_groups(&dirs)?;
         Ok(Self {
             pattern,
@@ -346,18 +357,9 @@ impl<const D: usize> Estimator<D> for SegmentEstimator<'_, D> {
         homogenise: bool,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        match self.dirs {
-            Directions::Fixed(d) => self.one_group(f, seed, homogenise, Some(d), scratch),
-            Directions::Random => self.one_group(f, seed, homogenise, None, scratch),
-            Directions::Groups(g) => {
-                let mut sum = 0.0;
-                for (j, d) in g.iter().enumerate() {
-                    let sj = Seed::new(seed.stream(GROUP_PURPOSE ^ j as u64));
-                    sum += self.one_group(f, sj, homogenise, Some(*d), scratch)?;
-                }
-                Ok(sum / g.len() as f64)
-            }
-        }
+        over_groups(&self.dirs, seed, |sj, d| {
+            self.one_group(f, sj, homogenise, d, scratch)
+        })
     }
 }
 
@@ -469,18 +471,9 @@ impl<const D: usize, const K: usize> Estimator<D> for LineEstimator<'_, D, K> {
         homogenise: bool,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        match self.dirs {
-            Directions::Fixed(d) => self.one_group(f, seed, homogenise, Some(d), scratch),
-            Directions::Random => self.one_group(f, seed, homogenise, None, scratch),
-            Directions::Groups(g) => {
-                let mut sum = 0.0;
-                for (j, d) in g.iter().enumerate() {
-                    let sj = Seed::new(seed.stream(GROUP_PURPOSE ^ j as u64));
-                    sum += self.one_group(f, sj, homogenise, Some(*d), scratch)?;
-                }
-                Ok(sum / g.len() as f64)
-            }
-        }
+        over_groups(&self.dirs, seed, |sj, d| {
+            self.one_group(f, sj, homogenise, d, scratch)
+        })
     }
 }
 

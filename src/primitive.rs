@@ -14,6 +14,22 @@ use crate::error::ParamError;
 use crate::geom::dd::Dd;
 use crate::geom::{Direction, MAX_SEGMENT_LENGTH};
 
+/// Checks a segment length: finite and `0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`].
+pub(crate) fn check_length(length: f64) -> Result<(), ParamError> {
+    if !length.is_finite() {
+        return Err(ParamError::NonFinite { name: "length" });
+    }
+    if !(0.0..=MAX_SEGMENT_LENGTH).contains(&length) {
+        return Err(ParamError::OutOfRange {
+            name: "length",
+            value: length,
+            min: 0.0,
+            max: MAX_SEGMENT_LENGTH,
+        });
+    }
+    Ok(())
+}
+
 /// A segment of length `λ` centred at `c` with direction `ω`, wrapped on the
 /// unit torus.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -35,17 +51,7 @@ impl<const D: usize> Segment<D> {
         if centre.iter().any(|x| !x.is_finite()) {
             return Err(ParamError::NonFinite { name: "centre" });
         }
-        if !length.is_finite() {
-            return Err(ParamError::NonFinite { name: "length" });
-        }
-        if !(0.0..=MAX_SEGMENT_LENGTH).contains(&length) {
-            return Err(ParamError::OutOfRange {
-                name: "length",
-                value: length,
-                min: 0.0,
-                max: MAX_SEGMENT_LENGTH,
-            });
-        }
+        check_length(length)?;
         Ok(Self {
             centre,
             dir,
