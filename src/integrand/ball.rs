@@ -102,7 +102,7 @@ impl<const D: usize> Ball<D> {
         if !radius.is_finite() {
             return Err(ParamError::NonFinite { name: "radius" });
         }
-        if !(radius >= Self::RADIUS_MIN && radius <= 0.5) {
+        if !(Self::RADIUS_MIN..=0.5).contains(&radius) {
             return Err(ParamError::OutOfRange {
                 name: "radius",
                 value: radius,
