@@ -132,7 +132,7 @@ pub struct ConvergenceArgs {
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
     dims: u8,
 
-    /// Disk and ball: radius, in (0, 1/2] [default: 0.25].
+    /// Disk and ball: radius, in [1e-100, 1/2] [default: 0.25].
     #[arg(long, value_name = "R", allow_hyphen_values = true)]
     radius: Option<f64>,
 
