@@ -133,6 +133,24 @@ fn fill_points<'s, const K: usize>(
     Ok(pts)
 }
 
+/// `(1/N) Σ_k summand(k, y_k)` over the pattern's points `y_k`, shifted (in
+/// `f64`, modulo 1) by the realisation's homogenisation shift.
+fn mean_over_pattern<const K: usize>(
+    pattern: &dyn Pattern<K>,
+    seed: Seed,
+    homogenise: bool,
+    scratch: &mut [f32],
+    mut summand: impl FnMut(usize, &[f64; K]) -> f64,
+) -> Result<f64, EstimateError> {
+    let s = shift_for::<K>(seed, homogenise);
+    let pts = fill_points(pattern, seed, scratch)?;
+    let mut sum = 0.0;
+    for (k, x) in pts.iter().enumerate() {
+        sum += summand(k, &shifted_point(x, &s));
+    }
+    Ok(sum / pts.len() as f64)
+}
+
 #[inline]
 fn shifted_point<const K: usize>(x: &[f32; K], s: &[f64; K]) -> [f64; K] {
     let mut y = [0.0; K];
@@ -244,10 +262,7 @@ impl<const D: usize> Estimator<D> for PointEstimator<'_, D> {
         homogenise: bool,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        let s = shift_for::<D>(seed, homogenise);
-        let pts = fill_points(self.pattern, seed, scratch)?;
-        let sum: f64 = pts.iter().map(|x| f.value(&shifted_point(x, &s))).sum();
-        Ok(sum / pts.len() as f64)
+        mean_over_pattern(self.pattern, seed, homogenise, scratch, |_, x| f.value(x))
     }
 }
 
@@ -327,19 +342,10 @@ impl<'p, const D: usize> SegmentEstimator<'p, D> {
         dir: Option<Direction<D>>,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        let s = shift_for::<D>(seed, homogenise);
-        let pts = fill_points(self.pattern, seed, scratch)?;
-        let mut sum = 0.0;
-        for (k, x) in pts.iter().enumerate() {
-            let c = shifted_point(x, &s);
-            let w = match dir {
-                Some(d) => d,
-                None => random_direction::<D>(seed, k),
-            };
-            let seg = Segment::from_parts(c, w, self.length);
-            sum += f.segment_mean(&seg);
-        }
-        Ok(sum / pts.len() as f64)
+        mean_over_pattern(self.pattern, seed, homogenise, scratch, |k, c| {
+            let w = dir.unwrap_or_else(|| random_direction::<D>(seed, k));
+            f.segment_mean(&Segment::from_parts(*c, w, self.length))
+        })
     }
 }
 
@@ -441,19 +447,11 @@ impl<'p, const D: usize, const K: usize> LineEstimator<'p, D, K> {
         dir: Option<Direction<D>>,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        let s = shift_for::<K>(seed, homogenise);
-        let pts = fill_points(self.pattern, seed, scratch)?;
-        let mut sum = 0.0;
-        for (k, x) in pts.iter().enumerate() {
-            let y = shifted_point(x, &s);
-            let w = match dir {
-                Some(d) => d,
-                None => random_direction::<D>(seed, k),
-            };
-            let (line, area) = offset_line(&w, &y);
-            sum += area * f.line_integral(&line);
-        }
-        Ok(sum / pts.len() as f64)
+        mean_over_pattern(self.pattern, seed, homogenise, scratch, |k, y| {
+            let w = dir.unwrap_or_else(|| random_direction::<D>(seed, k));
+            let (line, area) = offset_line(&w, y);
+            area * f.line_integral(&line)
+        })
     }
 }
 
