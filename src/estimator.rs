@@ -475,18 +475,13 @@ impl<const D: usize, const K: usize> Estimator<D> for LineEstimator<'_, D, K> {
     }
 }
 
-/// `∫_{[0,1)^D}` of the line summand over all offsets in the rectangle: the
-/// identity behind [`LineEstimator`]'s unbiasedness, exposed for tests:
-/// `A·∫_R g(y) dy/|R| = ∫_{box} f`.
-#[doc(hidden)]
-#[must_use]
-pub fn line_summand<const D: usize>(f: &dyn Integrand<D>, dir: &Direction<D>, x: &[f64]) -> f64 {
+/// The line estimator's summand `A·∫_{chord} f` at rectangle offset `x`; its
+/// mean over `x ∈ [0,1)^{D−1}` is `∫_{box} f` (tested below).
+#[cfg(test)]
+fn line_summand<const D: usize>(f: &dyn Integrand<D>, dir: &Direction<D>, x: &[f64]) -> f64 {
     let (line, area) = offset_line(dir, x);
     area * f.line_integral(&line)
 }
-
-#[allow(dead_code)]
-fn _assert_object_safe(_: &dyn Estimator<2>) {}
 
 #[cfg(test)]
 mod tests {
