@@ -95,8 +95,13 @@ impl<const D: usize> RaySet<D> {
 
     fn f32_scalar_all(&self, f: &dyn Integrand<D>, out: &mut [f32]) {
         for i in 0..N {
-            let o = core::array::from_fn(|j| self.o[j][i]);
-            let d = core::array::from_fn(|j| self.d[j][i]);
+            // Plain loops: `array::from_fn` closures were not inlined here.
+            let mut o = [0.0f32; D];
+            let mut d = [0.0f32; D];
+            for j in 0..D {
+                o[j] = self.o[j][i];
+                d[j] = self.d[j][i];
+            }
             out[i] = f.segment_free_f32(o, d, self.t0[i], self.t1[i]);
         }
     }
