@@ -32,7 +32,7 @@ use crate::error::{EstimateError, ParamError};
 #[cfg(test)]
 use crate::geom::dot;
 use crate::geom::{frac, Direction};
-use crate::integrand::Integrand;
+use crate::integrand::{check_dim, Integrand};
 use crate::pattern::{Pattern, Shifted};
 use crate::primitive::{check_length, Line, Segment};
 use crate::rng::{mix64, Seed};
@@ -183,14 +183,22 @@ fn random_direction<const D: usize>(seed: Seed, k: usize) -> Direction<D> {
     Direction::from_unit(w)
 }
 
-fn check_groups<const D: usize>(dirs: &Directions<'_, D>) -> Result<usize, ParamError> {
+/// Rejects an empty group list.
+fn check_groups<const D: usize>(dirs: &Directions<'_, D>) -> Result<(), ParamError> {
     match dirs {
         Directions::Groups([]) => Err(ParamError::Count {
             name: "directions",
             value: 0,
         }),
-        Directions::Groups(g) => Ok(g.len()),
-        _ => Ok(1),
+        _ => Ok(()),
+    }
+}
+
+/// Number of pattern realisations per estimate: `K` for groups, else 1.
+fn group_count<const D: usize>(dirs: &Directions<'_, D>) -> usize {
+    match dirs {
+        Directions::Groups(g) => g.len(),
+        _ => 1,
     }
 }
 
@@ -215,14 +223,6 @@ fn over_groups<const D: usize>(
     }
 }
 
-fn check_estimator_dim<const D: usize>() -> Result<(), ParamError> {
-    if D == 2 || D == 3 {
-        Ok(())
-    } else {
-        Err(ParamError::Dimension { dim: D })
-    }
-}
-
 /// Point estimator `Î = (1/N) Σ f(x_k)` with `x_k` from a `D`-dimensional pattern.
 #[derive(Clone, Copy)]
 pub struct PointEstimator<'p, const D: usize> {
@@ -243,7 +243,7 @@ impl<'p, const D: usize> PointEstimator<'p, D> {
     /// # Errors
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`.
     pub fn new(pattern: &'p dyn Pattern<D>) -> Result<Self, ParamError> {
-        check_estimator_dim::<D>()?;
+        check_dim::<D>()?;
         Ok(Self { pattern })
     }
 }
@@ -298,7 +298,6 @@ pub struct SegmentEstimator<'p, const D: usize> {
     pattern: &'p dyn Pattern<D>,
     length: f64,
     dirs: Directions<'p, D>,
-    groups: usize,
 }
 
 impl<const D: usize> core::fmt::Debug for SegmentEstimator<'_, D> {
@@ -323,35 +322,20 @@ impl<'p, const D: usize> SegmentEstimator<'p, D> {
         length: f64,
         dirs: Directions<'p, D>,
     ) -> Result<Self, ParamError> {
-        check_estimator_dim::<D>()?;
+        check_dim::<D>()?;
         check_length(length)?;
-        let groups = check_groups(&dirs)?;
+        check_groups(&dirs)?;
         Ok(Self {
             pattern,
             length,
             dirs,
-            groups,
-        })
-    }
-
-    fn one_group(
-        &self,
-        f: &dyn Integrand<D>,
-        seed: Seed,
-        homogenise: bool,
-        dir: Option<Direction<D>>,
-        scratch: &mut [f32],
-    ) -> Result<f64, EstimateError> {
-        mean_over_pattern(self.pattern, seed, homogenise, scratch, |k, c| {
-            let w = dir.unwrap_or_else(|| random_direction::<D>(seed, k));
-            f.segment_mean(&Segment::from_parts(*c, w, self.length))
         })
     }
 }
 
 impl<const D: usize> Estimator<D> for SegmentEstimator<'_, D> {
     fn count(&self) -> usize {
-        self.pattern.len() * self.groups
+        self.pattern.len() * group_count(&self.dirs)
     }
     fn scratch_len(&self) -> usize {
         self.pattern.len() * D
@@ -363,8 +347,11 @@ impl<const D: usize> Estimator<D> for SegmentEstimator<'_, D> {
         homogenise: bool,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        over_groups(&self.dirs, seed, |sj, d| {
-            self.one_group(f, sj, homogenise, d, scratch)
+        over_groups(&self.dirs, seed, |sj, dir| {
+            mean_over_pattern(self.pattern, sj, homogenise, scratch, |k, c| {
+                let w = dir.unwrap_or_else(|| random_direction::<D>(sj, k));
+                f.segment_mean(&Segment::from_parts(*c, w, self.length))
+            })
         })
     }
 }
@@ -376,7 +363,6 @@ impl<const D: usize> Estimator<D> for SegmentEstimator<'_, D> {
 pub struct LineEstimator<'p, const D: usize, const K: usize> {
     pattern: &'p dyn Pattern<K>,
     dirs: Directions<'p, D>,
-    groups: usize,
 }
 
 impl<const D: usize, const K: usize> core::fmt::Debug for LineEstimator<'_, D, K> {
@@ -427,37 +413,18 @@ impl<'p, const D: usize, const K: usize> LineEstimator<'p, D, K> {
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}` and `K = D − 1`;
     /// [`ParamError::Count`] (`directions`) for an empty group list.
     pub fn new(pattern: &'p dyn Pattern<K>, dirs: Directions<'p, D>) -> Result<Self, ParamError> {
-        check_estimator_dim::<D>()?;
+        check_dim::<D>()?;
         if K + 1 != D {
             return Err(ParamError::Dimension { dim: K });
         }
-        let groups = check_groups(&dirs)?;
-        Ok(Self {
-            pattern,
-            dirs,
-            groups,
-        })
-    }
-
-    fn one_group(
-        &self,
-        f: &dyn Integrand<D>,
-        seed: Seed,
-        homogenise: bool,
-        dir: Option<Direction<D>>,
-        scratch: &mut [f32],
-    ) -> Result<f64, EstimateError> {
-        mean_over_pattern(self.pattern, seed, homogenise, scratch, |k, y| {
-            let w = dir.unwrap_or_else(|| random_direction::<D>(seed, k));
-            let (line, area) = offset_line(&w, y);
-            area * f.line_integral(&line)
-        })
+        check_groups(&dirs)?;
+        Ok(Self { pattern, dirs })
     }
 }
 
 impl<const D: usize, const K: usize> Estimator<D> for LineEstimator<'_, D, K> {
     fn count(&self) -> usize {
-        self.pattern.len() * self.groups
+        self.pattern.len() * group_count(&self.dirs)
     }
     fn scratch_len(&self) -> usize {
         self.pattern.len() * K
@@ -469,8 +436,12 @@ impl<const D: usize, const K: usize> Estimator<D> for LineEstimator<'_, D, K> {
         homogenise: bool,
         scratch: &mut [f32],
     ) -> Result<f64, EstimateError> {
-        over_groups(&self.dirs, seed, |sj, d| {
-            self.one_group(f, sj, homogenise, d, scratch)
+        over_groups(&self.dirs, seed, |sj, dir| {
+            mean_over_pattern(self.pattern, sj, homogenise, scratch, |k, y| {
+                let w = dir.unwrap_or_else(|| random_direction::<D>(sj, k));
+                let (line, area) = offset_line(&w, y);
+                area * f.line_integral(&line)
+            })
         })
     }
 }
