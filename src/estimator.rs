@@ -323,7 +323,7 @@ impl<'p, const D: usize> SegmentEstimator<'p, D> {
         dirs: Directions<'p, D>,
     ) -> Result<Self, ParamError> {
         check_dim::<D>()?;
-        check_length(length)?;
+        let length = check_length(length)?;
         check_groups(&dirs)?;
         Ok(Self {
             pattern,

@@ -14,8 +14,10 @@ use crate::error::ParamError;
 use crate::geom::dd::Dd;
 use crate::geom::{Direction, MAX_SEGMENT_LENGTH};
 
-/// Checks a segment length: finite and `0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`].
-pub(crate) fn check_length(length: f64) -> Result<(), ParamError> {
+/// A validated segment length: finite and `0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`].
+/// A subnormal `λ` (`< 2⁻¹⁰²²`, where `λ/2` would round) becomes `0`, so every
+/// closed form sees either a point or a length it can halve exactly.
+pub(crate) fn check_length(length: f64) -> Result<f64, ParamError> {
     if !length.is_finite() {
         return Err(ParamError::NonFinite { name: "length" });
     }
@@ -27,7 +29,11 @@ pub(crate) fn check_length(length: f64) -> Result<(), ParamError> {
             max: MAX_SEGMENT_LENGTH,
         });
     }
-    Ok(())
+    Ok(if length < f64::MIN_POSITIVE {
+        0.0
+    } else {
+        length
+    })
 }
 
 /// A segment of length `λ` centred at `c` with direction `ω`, wrapped on the
@@ -40,8 +46,8 @@ pub struct Segment<const D: usize> {
 }
 
 impl<const D: usize> Segment<D> {
-    /// A segment. The centre may lie outside `[0, 1)^D` (it is taken modulo 1 by
-    /// the integrands, exactly).
+    /// A segment. The centre may lie outside `[0, 1)^D` (the integrands take it
+    /// modulo 1). A subnormal length is stored as 0 (a point).
     ///
     /// # Errors
     /// [`ParamError::NonFinite`] (`centre`, `length`),
@@ -51,7 +57,7 @@ impl<const D: usize> Segment<D> {
         if centre.iter().any(|x| !x.is_finite()) {
             return Err(ParamError::NonFinite { name: "centre" });
         }
-        check_length(length)?;
+        let length = check_length(length)?;
         Ok(Self {
             centre,
             dir,

@@ -404,7 +404,7 @@ fn convergence_3d_lines() {
 }
 
 /// Found by the fuzzers: a subnormal length used to halve inexactly (so the
-/// mean exceeded the maximum); it is now the point value, for every integrand.
+/// mean exceeded the maximum); `Segment::new` now stores it as 0, a point.
 #[test]
 fn subnormal_segment_lengths_are_points() {
     use linesample::primitive::Segment;
@@ -416,6 +416,7 @@ fn subnormal_segment_lengths_are_points() {
     for f in fs {
         for len in [1.26e-321, 2.99e-319, 4e-310, 0.0] {
             let s = Segment::new(c, dir([-1.9e260, 9.1e-97]), len).unwrap();
+            assert_eq!(s.length(), if len < f64::MIN_POSITIVE { 0.0 } else { len });
             let m = f.segment_mean(&s);
             assert_eq!(m, f.value(&c), "{f:?} λ = {len:e}");
             assert!(m <= f.max_value());

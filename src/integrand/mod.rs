@@ -125,10 +125,10 @@ pub trait Integrand<const D: usize>: core::fmt::Debug + Send + Sync {
     }
 
     /// The segment average `(1/λ)·∫ f` (the segment estimator's summand); the
-    /// point value `f(c)` at `λ = 0`, and continuous as `λ → 0`. A subnormal
-    /// length (`λ < 2⁻¹⁰²²`, where `λ/2` would round) is treated as `λ = 0`.
+    /// point value `f(c)` at `λ = 0` (subnormal lengths are stored as 0 by
+    /// [`Segment::new`]), and continuous as `λ → 0`.
     fn segment_mean(&self, seg: &Segment<D>) -> f64 {
-        if seg.length() < f64::MIN_POSITIVE {
+        if seg.length() == 0.0 {
             self.value(&seg.centre())
         } else {
             self.segment_integral(seg) / seg.length()
