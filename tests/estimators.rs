@@ -50,68 +50,127 @@ fn dir<const D: usize>(v: [f64; D]) -> Direction<D> {
     Direction::new(v).unwrap()
 }
 
+/// The estimator configurations of the unbiasedness suite in `D` dimensions.
+struct Suite<'a, const D: usize> {
+    /// (length, direction) of the fixed-direction segments.
+    fixed_segment: (f64, Direction<D>),
+    /// Length of the random-direction segments.
+    random_segment: f64,
+    /// Direction groups (segments of length 0.2, and lines).
+    groups: &'a [Direction<D>],
+    /// (label, direction) of the axis lines and of the oblique box lines.
+    axis_line: (&'a str, Direction<D>),
+    oblique_line: (&'a str, Direction<D>),
+    reps: u64,
+}
+
+/// Every estimator × every pattern × every integrand is unbiased (4 SE).
+/// `pats` are `D`-dimensional (points, segment centres), `offsets` are
+/// `K = D − 1`-dimensional (line offsets).
+fn unbiased_suite<const D: usize, const K: usize>(
+    fs: &[(&str, &dyn Integrand<D>)],
+    pats: &[(&str, &dyn Pattern<D>)],
+    offsets: &[(&str, &dyn Pattern<K>)],
+    suite: &Suite<'_, D>,
+    mut seed: u64,
+) {
+    let reps = suite.reps;
+    for &(fname, f) in fs {
+        for &(pname, p) in pats {
+            seed += 1;
+            let (len, w) = suite.fixed_segment;
+            let cases: [(String, Box<dyn Estimator<D>>); 4] = [
+                (
+                    "points".to_string(),
+                    Box::new(PointEstimator::new(p).unwrap()),
+                ),
+                (
+                    format!("segments λ={len} fixed"),
+                    Box::new(SegmentEstimator::new(p, len, Directions::Fixed(w)).unwrap()),
+                ),
+                (
+                    format!("segments λ={} random dir", suite.random_segment),
+                    Box::new(
+                        SegmentEstimator::new(p, suite.random_segment, Directions::Random).unwrap(),
+                    ),
+                ),
+                (
+                    format!("segments {} groups", suite.groups.len()),
+                    Box::new(
+                        SegmentEstimator::new(p, 0.2, Directions::Groups(suite.groups)).unwrap(),
+                    ),
+                ),
+            ];
+            for (what, e) in &cases {
+                assert_unbiased(
+                    &format!("{fname} {what} {pname}"),
+                    e.as_ref(),
+                    f,
+                    seed,
+                    reps,
+                );
+            }
+        }
+        for &(pname, p) in offsets {
+            seed += 1;
+            let cases: [(String, Box<dyn Estimator<D>>); 4] = [
+                (
+                    format!("lines {}", suite.axis_line.0),
+                    Box::new(LineEstimator::new(p, Directions::Fixed(suite.axis_line.1)).unwrap()),
+                ),
+                (
+                    format!("lines {} (box)", suite.oblique_line.0),
+                    Box::new(
+                        LineEstimator::new(p, Directions::Fixed(suite.oblique_line.1)).unwrap(),
+                    ),
+                ),
+                (
+                    "lines random dir".to_string(),
+                    Box::new(LineEstimator::new(p, Directions::Random).unwrap()),
+                ),
+                (
+                    format!("lines {} groups", suite.groups.len()),
+                    Box::new(LineEstimator::new(p, Directions::Groups(suite.groups)).unwrap()),
+                ),
+            ];
+            for (what, e) in &cases {
+                assert_unbiased(
+                    &format!("{fname} {what} {pname}"),
+                    e.as_ref(),
+                    f,
+                    seed,
+                    reps,
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn every_estimator_is_unbiased_2d() {
     let disk = Ball::<2>::new([0.5, 0.5], 0.25).unwrap();
     let gauss = Gaussian::<2>::new([0.3, 0.8], 0.1).unwrap();
     let edge = HalfSpace::<2>::new(dir([0.7, 1.0]), 0.6).unwrap();
-    let fs: [(&str, &dyn Integrand<2>); 3] = [("disk", &disk), ("gauss", &gauss), ("edge", &edge)];
     let random2 = Random::<2>::new(64).unwrap();
     let jitter2 = Jittered::new([8, 8]).unwrap();
     let random1 = Random::<1>::new(16).unwrap();
     let jitter1 = Jittered::new([16]).unwrap();
-    let pats2: [(&str, &dyn Pattern<2>); 2] = [("random", &random2), ("jittered", &jitter2)];
-    let pats1: [(&str, &dyn Pattern<1>); 2] = [("random", &random1), ("jittered", &jitter1)];
     let groups = [dir([1.0, 0.0]), dir([0.0, 1.0]), dir([1.0, 1.0])];
-    let mut seed = 100;
-    for (fname, f) in fs {
-        for (pname, p) in pats2 {
-            seed += 1;
-            let e = PointEstimator::new(p).unwrap();
-            assert_unbiased(&format!("{fname} points {pname}"), &e, f, seed, 400);
-            let e = SegmentEstimator::new(p, 0.3, Directions::Fixed(dir([0.6, 0.8]))).unwrap();
-            assert_unbiased(&format!("{fname} segments fixed {pname}"), &e, f, seed, 400);
-            let e = SegmentEstimator::new(p, 1.7, Directions::Random).unwrap();
-            assert_unbiased(
-                &format!("{fname} segments λ=1.7 random dir {pname}"),
-                &e,
-                f,
-                seed,
-                400,
-            );
-            let e = SegmentEstimator::new(p, 0.2, Directions::Groups(&groups)).unwrap();
-            assert_unbiased(
-                &format!("{fname} segments 3 groups {pname}"),
-                &e,
-                f,
-                seed,
-                400,
-            );
-        }
-        for (pname, p) in pats1 {
-            seed += 1;
-            let e = LineEstimator::new(p, Directions::Fixed(Direction::axis(0).unwrap())).unwrap();
-            assert_unbiased(&format!("{fname} lines ∥x {pname}"), &e, f, seed, 400);
-            let e = LineEstimator::new(p, Directions::Fixed(dir([1.0, 0.7]))).unwrap();
-            assert_unbiased(
-                &format!("{fname} lines slope 0.7 (box) {pname}"),
-                &e,
-                f,
-                seed,
-                400,
-            );
-            let e = LineEstimator::new(p, Directions::Random).unwrap();
-            assert_unbiased(
-                &format!("{fname} lines random dir {pname}"),
-                &e,
-                f,
-                seed,
-                400,
-            );
-            let e = LineEstimator::new(p, Directions::Groups(&groups)).unwrap();
-            assert_unbiased(&format!("{fname} lines 3 groups {pname}"), &e, f, seed, 400);
-        }
-    }
+    let suite = Suite {
+        fixed_segment: (0.3, dir([0.6, 0.8])),
+        random_segment: 1.7,
+        groups: &groups,
+        axis_line: ("∥x", Direction::axis(0).unwrap()),
+        oblique_line: ("slope 0.7", dir([1.0, 0.7])),
+        reps: 400,
+    };
+    unbiased_suite(
+        &[("disk", &disk), ("gauss", &gauss), ("edge", &edge)],
+        &[("random", &random2), ("jittered", &jitter2)],
+        &[("random", &random1), ("jittered", &jitter1)],
+        &suite,
+        100,
+    );
 }
 
 #[test]
@@ -119,59 +178,30 @@ fn every_estimator_is_unbiased_3d() {
     let ball = Ball::<3>::new([0.5, 0.5, 0.5], 0.25).unwrap();
     let gauss = Gaussian::<3>::new([0.1, 0.5, 0.9], 0.15).unwrap();
     let edge = HalfSpace::<3>::new(dir([0.3, -0.5, 1.0]), 0.2).unwrap();
-    let fs: [(&str, &dyn Integrand<3>); 3] = [("ball", &ball), ("gauss", &gauss), ("edge", &edge)];
     let random3 = Random::<3>::new(64).unwrap();
     let jitter3 = Jittered::new([4, 4, 4]).unwrap();
     let random2 = Random::<2>::new(16).unwrap();
     let jitter2 = Jittered::new([4, 4]).unwrap();
-    let pats3: [(&str, &dyn Pattern<3>); 2] = [("random", &random3), ("jittered", &jitter3)];
-    let pats2: [(&str, &dyn Pattern<2>); 2] = [("random", &random2), ("jittered", &jitter2)];
     let groups = [
         dir([0.0, 0.0, 1.0]),
         dir([1.0, 0.0, 0.0]),
         dir([1.0, 1.0, 1.0]),
     ];
-    let mut seed = 200;
-    for (fname, f) in fs {
-        for (pname, p) in pats3 {
-            seed += 1;
-            let e = PointEstimator::new(p).unwrap();
-            assert_unbiased(&format!("{fname} points {pname}"), &e, f, seed, 300);
-            let e = SegmentEstimator::new(p, 0.4, Directions::Fixed(dir([0.2, 0.3, 0.9]))).unwrap();
-            assert_unbiased(&format!("{fname} segments fixed {pname}"), &e, f, seed, 300);
-            let e = SegmentEstimator::new(p, 0.25, Directions::Random).unwrap();
-            assert_unbiased(
-                &format!("{fname} segments random dir {pname}"),
-                &e,
-                f,
-                seed,
-                300,
-            );
-            let e = SegmentEstimator::new(p, 0.2, Directions::Groups(&groups)).unwrap();
-            assert_unbiased(
-                &format!("{fname} segments 3 groups {pname}"),
-                &e,
-                f,
-                seed,
-                300,
-            );
-        }
-        for (pname, p) in pats2 {
-            seed += 1;
-            let e = LineEstimator::new(p, Directions::Fixed(Direction::axis(2).unwrap())).unwrap();
-            assert_unbiased(&format!("{fname} lines ∥z {pname}"), &e, f, seed, 300);
-            let e = LineEstimator::new(p, Directions::Fixed(dir([0.3, -0.4, 1.0]))).unwrap();
-            assert_unbiased(
-                &format!("{fname} lines oblique (box) {pname}"),
-                &e,
-                f,
-                seed,
-                300,
-            );
-            let e = LineEstimator::new(p, Directions::Groups(&groups)).unwrap();
-            assert_unbiased(&format!("{fname} lines 3 groups {pname}"), &e, f, seed, 300);
-        }
-    }
+    let suite = Suite {
+        fixed_segment: (0.4, dir([0.2, 0.3, 0.9])),
+        random_segment: 0.25,
+        groups: &groups,
+        axis_line: ("∥z", Direction::axis(2).unwrap()),
+        oblique_line: ("oblique", dir([0.3, -0.4, 1.0])),
+        reps: 300,
+    };
+    unbiased_suite(
+        &[("ball", &ball), ("gauss", &gauss), ("edge", &edge)],
+        &[("random", &random3), ("jittered", &jitter3)],
+        &[("random", &random2), ("jittered", &jitter2)],
+        &suite,
+        200,
+    );
 }
 
 #[test]
