@@ -297,3 +297,91 @@ impl From<ParamError> for EstimateError {
         EstimateError::Param(e)
     }
 }
+
+/// Why a spectrum (periodogram) call was rejected. Nothing is accumulated
+/// when a call returns an error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum SpectrumError {
+    /// The grid half-width `k` is 0, above `max`, or makes the grid larger than
+    /// `max_cells` cells.
+    HalfWidth {
+        /// The rejected half-width.
+        k: usize,
+        /// Largest accepted half-width.
+        max: usize,
+        /// Largest accepted number of stored cells.
+        max_cells: usize,
+    },
+    /// The dimension `D` is not supported (expected 1, 2 or 3).
+    Dimension {
+        /// The requested dimension.
+        dim: usize,
+    },
+    /// A slice argument `name` has the wrong length.
+    Length {
+        /// Parameter name.
+        name: &'static str,
+        /// Length needed (the minimum, for scratch buffers).
+        expected: usize,
+        /// Length given.
+        got: usize,
+    },
+    /// Element `index` of `name` is NaN or infinite.
+    NonFinite {
+        /// Parameter name.
+        name: &'static str,
+        /// Index of the first bad element.
+        index: usize,
+    },
+    /// Two objects built on different grids were combined.
+    GridMismatch {
+        /// Half-width of the receiver.
+        left: usize,
+        /// Half-width of the argument.
+        right: usize,
+    },
+    /// A realisation with no samples was added (its periodogram `|F|²/N` is undefined).
+    Empty,
+    /// The parameter `name` is invalid (see the inner error).
+    Param(ParamError),
+}
+
+impl fmt::Display for SpectrumError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            SpectrumError::HalfWidth { k, max, max_cells } => write!(
+                f,
+                "k = {k} is out of range (expected 1..={max}, and at most {max_cells} grid cells)"
+            ),
+            SpectrumError::Dimension { dim } => {
+                write!(
+                    f,
+                    "dimension D = {dim} is not supported (expected 1, 2 or 3)"
+                )
+            }
+            SpectrumError::Length {
+                name,
+                expected,
+                got,
+            } => write!(f, "{name}: length {got}, expected {expected}"),
+            SpectrumError::NonFinite { name, index } => {
+                write!(f, "{name}[{index}] is NaN or infinite")
+            }
+            SpectrumError::GridMismatch { left, right } => write!(
+                f,
+                "grids differ: half-width {left} cannot be combined with half-width {right}"
+            ),
+            SpectrumError::Empty => write!(f, "a realisation must have at least one sample"),
+            SpectrumError::Param(e) => e.fmt(f),
+        }
+    }
+}
+
+impl core::error::Error for SpectrumError {}
+
+impl From<ParamError> for SpectrumError {
+    fn from(e: ParamError) -> Self {
+        SpectrumError::Param(e)
+    }
+}

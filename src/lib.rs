@@ -84,9 +84,10 @@ pub mod primitive;
 pub mod rng;
 mod simd;
 pub mod special;
+pub mod spectrum;
 pub mod stats;
 
-pub use error::{EstimateError, ParamError, PatternError, SeedError};
+pub use error::{EstimateError, ParamError, PatternError, SeedError, SpectrumError};
 pub use rng::{Pcg32, Seed};
 
 /// The README's code examples, compiled and run as doc tests.
