@@ -20,12 +20,16 @@ fn points<const D: usize>(c: &mut Criterion, name: &str, cases: &[(usize, usize)
         let mut scratch = vec![0.0; CHUNK * Dft::<D, Vec<f64>>::points_scratch_per_sample(g)];
         // Complex multiply-adds per call: N·|half grid|.
         group.throughput(Throughput::Elements((n * g.len()) as u64));
-        group.bench_with_input(BenchmarkId::new(format!("n{n}"), format!("k{k}")), &(), |b, ()| {
-            b.iter(|| {
-                dft.clear();
-                dft.add_points(black_box(&pts), &mut scratch).unwrap();
-            });
-        });
+        group.bench_with_input(
+            BenchmarkId::new(format!("n{n}"), format!("k{k}")),
+            &(),
+            |b, ()| {
+                b.iter(|| {
+                    dft.clear();
+                    dft.add_points(black_box(&pts), &mut scratch).unwrap();
+                });
+            },
+        );
     }
     group.finish();
 }
@@ -34,7 +38,13 @@ fn direct(c: &mut Criterion) {
     points::<2>(
         c,
         "direct_2d",
-        &[(4096, 319), (1024, 319), (4096, 64), (4096, 128), (16384, 64)],
+        &[
+            (4096, 319),
+            (1024, 319),
+            (4096, 64),
+            (4096, 128),
+            (16384, 64),
+        ],
     );
     points::<3>(c, "direct_3d", &[(4096, 32), (1024, 16)]);
     points::<1>(c, "direct_1d", &[(4096, 4096)]);
@@ -58,7 +68,8 @@ fn scalar_twin(c: &mut Criterion) {
     group.bench_function("scalar_n1024_k64", |b| {
         b.iter(|| {
             dft.clear();
-            dft.add_points_scalar(black_box(&pts), &mut scratch).unwrap();
+            dft.add_points_scalar(black_box(&pts), &mut scratch)
+                .unwrap();
         });
     });
     group.finish();
@@ -74,12 +85,17 @@ fn segments(c: &mut Criterion) {
         let mut scratch = vec![0.0; CHUNK * Dft::<2, Vec<f64>>::segments_scratch_per_sample(g)];
         let dir = Direction::new([1.0, 0.3]).unwrap();
         group.throughput(Throughput::Elements((n * g.len()) as u64));
-        group.bench_with_input(BenchmarkId::new(format!("n{n}"), format!("k{k}")), &(), |b, ()| {
-            b.iter(|| {
-                dft.clear();
-                dft.add_segment_pattern(black_box(&pts), &dir, 0.1, &mut scratch).unwrap();
-            });
-        });
+        group.bench_with_input(
+            BenchmarkId::new(format!("n{n}"), format!("k{k}")),
+            &(),
+            |b, ()| {
+                b.iter(|| {
+                    dft.clear();
+                    dft.add_segment_pattern(black_box(&pts), &dir, 0.1, &mut scratch)
+                        .unwrap();
+                });
+            },
+        );
     }
     group.finish();
 }

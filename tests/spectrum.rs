@@ -1,6 +1,7 @@
 //! The direct periodogram against independent references: a naive per-pair
 //! double loop, closed-form expected spectra (white noise, jitter), the line
 //! identity, and the accumulator algebra (chunking, SIMD vs scalar, merge).
+#![allow(clippy::needless_range_loop)]
 
 use linesample::geom::dd::{two_prod, two_sum, Dd};
 use linesample::geom::Direction;

@@ -104,11 +104,9 @@ fn fill_row_table(
     lo: i64,
     slot: usize,
     x: f64,
-    scale: f64,
 ) {
     let len = re.len() / p;
     phases(x, k, |j, c, s| {
-        let (s, c) = (s * scale, c);
         let jp = j as i64 - lo;
         if (0..len as i64).contains(&jp) {
             re[jp as usize * p + slot] = c;
@@ -374,10 +372,10 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         cols.fill(0.0);
         for (slot, x) in pts.iter().enumerate() {
             if D >= 2 {
-                fill_row_table(r0re, r0im, p, k, 0, slot, x[0].to_f64(), 1.0);
+                fill_row_table(r0re, r0im, p, k, 0, slot, x[0].to_f64());
             }
             if D == 3 {
-                fill_row_table(r1re, r1im, p, k, -(k as i64), slot, x[1].to_f64(), 1.0);
+                fill_row_table(r1re, r1im, p, k, -(k as i64), slot, x[1].to_f64());
             }
             let xc = x[D - 1].to_f64();
             let ncols = g.cols() as i64;
