@@ -6,8 +6,10 @@
 mod convergence;
 mod output;
 mod plot;
+mod png;
 mod render;
 mod sampler;
+mod spectrum;
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -86,6 +88,24 @@ enum Command {
     /// CSV are bit-identical for any --threads.
     #[command(after_long_help = convergence::FORMATS)]
     Convergence(convergence::ConvergenceArgs),
+    /// Measure the mean periodogram <N*P(nu)> of a pattern, of segments or lines
+    /// through it, or of point sets read from files; write PREFIX.png (log-scale
+    /// image), PREFIX-radial.csv and PREFIX-radial.svg (radial average).
+    ///
+    /// For each of R realisations (--realizations; realisation r of a sampler
+    /// uses the points of `patterns --seed SEED --realization r`; with --input
+    /// each file is one realisation) it computes the Fourier amplitudes F(nu)
+    /// of the samples at every integer frequency of the grid [-k, k]^D exactly
+    /// (--method direct) and accumulates N*P(nu) = |F(nu)|^2/N, which is 1 for
+    /// white noise. It writes the mean over the realisations as an image, its
+    /// radial average over rings of unit width with the standard error of each
+    /// ring mean across the realisations, and prints a summary.
+    ///
+    /// Parallelism: realisations run on --threads threads and are added to the
+    /// accumulators in realisation order, so every output file is byte-identical
+    /// for any --threads.
+    #[command(after_long_help = spectrum::FORMATS)]
+    Spectrum(spectrum::SpectrumArgs),
 }
 
 #[derive(Debug, Args)]
@@ -184,6 +204,7 @@ fn main() -> ExitCode {
         Some(Command::Patterns(a)) => patterns(&a),
         Some(Command::Gallery(a)) => gallery(&a),
         Some(Command::Convergence(a)) => convergence::run(&a),
+        Some(Command::Spectrum(a)) => spectrum::run(&a),
         None => gallery(&GalleryArgs::default()),
     };
     match result {

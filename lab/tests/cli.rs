@@ -783,3 +783,369 @@ fn convergence_runs_every_integrand_and_primitive() {
     }
     no_tmp_files(&dir);
 }
+
+const SPECTRUM_HEADER: &str = "radius,mean_np,std_error,count";
+
+/// Width and height from the IHDR chunk, after checking the signature.
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = fs::read(path).expect("read png");
+    assert_eq!(
+        &b[..8],
+        b"\x89PNG\r\n\x1a\n",
+        "{}: signature",
+        path.display()
+    );
+    assert_eq!(
+        &b[8..16],
+        b"\0\0\0\x0dIHDR",
+        "{}: IHDR first",
+        path.display()
+    );
+    let be = |i: usize| u32::from_be_bytes(b[i..i + 4].try_into().unwrap());
+    assert!(
+        b.ends_with(b"IEND\xae\x42\x60\x82"),
+        "{}: IEND",
+        path.display()
+    );
+    (be(16), be(20))
+}
+
+/// Full-grid frequency counts of the rings `round(|ν|) = r`, `r = 0..=k`, in
+/// `d` dimensions (exact integer rule: `r² − r < |ν|² ≤ r² + r`).
+fn ring_counts(k: i64, d: u32) -> Vec<u64> {
+    let mut c = vec![0u64; k as usize + 1];
+    let w = 2 * k + 1;
+    for i in 0..w.pow(d) {
+        let mut m = 0;
+        let mut rest = i;
+        for _ in 0..d {
+            let j = rest % w - k;
+            rest /= w;
+            m += j * j;
+        }
+        let r = (0..=k).find(|&r| m <= r * r + r);
+        if let Some(r) = r {
+            c[r as usize] += 1;
+        }
+    }
+    c
+}
+
+/// `(radius, mean, se, count)` rows of a spectrum CSV, checking the header.
+fn spectrum_rows(path: &Path) -> Vec<(usize, f64, f64, u64)> {
+    let (comments, header, rows) = csv_table(path);
+    assert!(comments.is_empty(), "{comments:?}");
+    assert_eq!(header.join(","), SPECTRUM_HEADER);
+    rows.iter()
+        .map(|r| {
+            assert_eq!(r.len(), 4, "{r:?}");
+            (
+                r[0].parse().unwrap(),
+                r[1].parse().unwrap(),
+                r[2].parse().unwrap(),
+                r[3].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn spectrum_of_random_points() {
+    let dir = TempDir::new("spectrum");
+    let o = lab(
+        &dir,
+        &[
+            "spectrum",
+            "--sampler",
+            "random",
+            "-n",
+            "64",
+            "--k",
+            "8",
+            "--realizations",
+            "8",
+            "--out",
+            "res/white",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("N = 64, k = 8"), "{stdout}");
+    assert!(stdout.contains("ms/real."), "{stdout}");
+    let rows = spectrum_rows(&dir.path().join("res/white-radial.csv"));
+    assert_eq!(rows.len(), 8);
+    let counts = ring_counts(8, 2);
+    assert_eq!(counts[1], 8); // |ν|² ∈ {1, 2}
+    for (i, &(r, mean, se, count)) in rows.iter().enumerate() {
+        assert_eq!(r, i + 1);
+        assert_eq!(count, counts[r], "ring {r}");
+        assert!(se > 0.0 && se.is_finite(), "ring {r}: se {se}");
+        if r >= 4 {
+            // White noise: <N·P> = 1 at every ν ≠ 0.
+            assert!((mean - 1.0).abs() < 5.0 * se, "ring {r}: {mean} ± {se}");
+        }
+    }
+    // 17 frequencies per side, upscaled 16x to at least 256 pixels.
+    assert_eq!(
+        png_size(&dir.path().join("res/white.png")),
+        (17 * 16, 17 * 16)
+    );
+    let svg = fs::read_to_string(dir.path().join("res/white-radial.svg")).unwrap();
+    assert!(svg.starts_with("<?xml") && svg.trim_end().ends_with("</svg>"));
+    assert!(svg.contains("random 2D points, N = 64, R = 8"), "title");
+    no_tmp_files(&dir);
+    assert_eq!(
+        dir.files(),
+        vec![
+            PathBuf::from("res/white-radial.csv"),
+            PathBuf::from("res/white-radial.svg"),
+            PathBuf::from("res/white.png")
+        ]
+    );
+}
+
+#[test]
+fn spectrum_is_independent_of_the_thread_count() {
+    let dir = TempDir::new("spectrum-threads");
+    let run = |threads: &str| {
+        let out = format!("t{threads}");
+        let o = lab(
+            &dir,
+            &[
+                "spectrum",
+                "--sampler",
+                "jittered",
+                "-n",
+                "64",
+                "--k",
+                "12",
+                "--realisations",
+                "7",
+                "--seed",
+                "3",
+                "--threads",
+                threads,
+                "--out",
+                &out,
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        (
+            fs::read(dir.path().join(format!("{out}-radial.csv"))).unwrap(),
+            fs::read(dir.path().join(format!("{out}.png"))).unwrap(),
+            fs::read(dir.path().join(format!("{out}-radial.svg"))).unwrap(),
+        )
+    };
+    let one = run("1");
+    assert_eq!(one, run("3"), "--threads 3 differs from --threads 1");
+    no_tmp_files(&dir);
+}
+
+#[test]
+fn spectrum_reads_point_files() {
+    let dir = TempDir::new("spectrum-input");
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut plain = String::from("# made elsewhere\n\n");
+    let mut utk = String::from("40\n");
+    for i in 0..40 {
+        let (x, y) = (next(), next());
+        // One coordinate outside [0, 1): wrapped with a note.
+        let x = if i == 5 { x + 1.0 } else { x };
+        plain.push_str(&format!("{x} {y}\n"));
+        utk.push_str(&format!("{}\t{}\n", next(), next()));
+    }
+    fs::write(dir.path().join("a.txt"), &plain).unwrap();
+    fs::write(dir.path().join("b.pts"), &utk).unwrap();
+    let o = lab(
+        &dir,
+        &[
+            "spectrum", "--input", "a.txt", "b.pts", "--k", "6", "--out", "files",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let err = stderr(&o);
+    assert!(
+        err.contains("b.pts, line 1: skipped the header line '40'"),
+        "{err}"
+    );
+    assert!(err.contains("a.txt: wrapped 1 coordinate"), "{err}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("R = 2 realisation(s)"), "{stdout}");
+    let rows = spectrum_rows(&dir.path().join("files-radial.csv"));
+    assert_eq!(rows.len(), 6);
+    assert_eq!(png_size(&dir.path().join("files.png")), (13 * 20, 13 * 20));
+
+    // A single 3D file with the default output path.
+    fs::write(
+        dir.path().join("c.txt"),
+        "0.1 0.2 0.3\n0.5 0.5 0.5\n0.9 0.1 0.7\n",
+    )
+    .unwrap();
+    let o = lab(&dir, &["spectrum", "--input", "c.txt", "--k", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("out/spectrum/c-3d-3-radial.csv").is_file());
+
+    // Malformed: a bad number at line 3; nothing is written.
+    let bad = TempDir::new("spectrum-bad-input");
+    fs::write(bad.path().join("bad.txt"), "0.1 0.2\n0.3 0.4\n0.5 x\n").unwrap();
+    let o = lab(&bad, &["spectrum", "--input", "bad.txt", "--out", "r"]);
+    assert!(!o.status.success());
+    let err = stderr(&o);
+    assert!(
+        err.starts_with("error: ") && err.contains("bad.txt, line 3"),
+        "{err}"
+    );
+    assert_eq!(bad.files(), vec![PathBuf::from("bad.txt")]);
+    for (name, text, want) in [
+        ("cols.txt", "0.1 0.2\n0.3\n", "line 2: 1 columns"),
+        (
+            "nan.txt",
+            "0.1 0.2\nNaN 0.4\n",
+            "line 2, column 1: 'NaN' is not a finite",
+        ),
+        ("empty.txt", "# nothing\n\n", "no points"),
+    ] {
+        fs::write(bad.path().join(name), text).unwrap();
+        let o = lab(&bad, &["spectrum", "--input", name, "--out", "r"]);
+        assert!(!o.status.success(), "{name}");
+        let err = stderr(&o);
+        assert!(err.contains(name) && err.contains(want), "{name}: {err}");
+    }
+    let o = lab(&bad, &["spectrum", "--input", "missing.txt", "--out", "r"]);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("missing.txt"), "{}", stderr(&o));
+    assert!(bad
+        .files()
+        .iter()
+        .all(|f| f.extension().is_some_and(|e| e == "txt")));
+    no_tmp_files(&bad);
+}
+
+#[test]
+fn spectrum_of_segments_and_lines() {
+    let dir = TempDir::new("spectrum-prims");
+    for (args, out, png) in [
+        (
+            &[
+                "--primitive",
+                "segments",
+                "--length",
+                "0.3",
+                "--direction",
+                "1,1",
+            ][..],
+            "seg",
+            Some(272), // 2k+1 = 17 frequencies, upscaled 16x
+        ),
+        (&["--primitive", "lines"][..], "lines2", None),
+        (
+            &["--primitive", "lines", "--dims", "3", "--axis", "2"][..],
+            "lines3",
+            Some(272),
+        ),
+        (&["--dims", "3", "--k", "4"][..], "pts3", Some(261)),
+        (&["--dims", "1", "--k", "20"][..], "pts1", None),
+    ] {
+        let mut a = vec![
+            "spectrum",
+            "--sampler",
+            "random",
+            "-n",
+            "27",
+            "--realizations",
+            "3",
+        ];
+        if !args.contains(&"--k") {
+            a.extend(["--k", "8"]);
+        }
+        a.extend(args);
+        a.extend(["--out", out]);
+        let o = lab(&dir, &a);
+        assert!(o.status.success(), "{a:?}: {}", stderr(&o));
+        let rows = spectrum_rows(&dir.path().join(format!("{out}-radial.csv")));
+        assert!(!rows.is_empty() && rows.iter().all(|r| r.1 > 0.0), "{out}");
+        let png_path = dir.path().join(format!("{out}.png"));
+        match png {
+            Some(side) => assert_eq!(png_size(&png_path), (side, side), "{out}"),
+            None => {
+                assert!(!png_path.exists(), "{out}");
+                let stdout = String::from_utf8_lossy(&o.stdout);
+                assert!(stdout.contains("no PNG"), "{stdout}");
+            }
+        }
+    }
+    // Ring counts of the 3D grid and the 1D grid.
+    let rows = spectrum_rows(&dir.path().join("pts3-radial.csv"));
+    let c3 = ring_counts(4, 3);
+    assert!(rows.iter().all(|r| r.3 == c3[r.0]), "{rows:?}");
+    assert_eq!(rows[0].3, 18); // |ν|² ∈ {1, 2}: 6 + 12
+    let rows = spectrum_rows(&dir.path().join("lines2-radial.csv"));
+    assert!(rows.iter().all(|r| r.3 == 2), "{rows:?}");
+    no_tmp_files(&dir);
+
+    // Options that do not apply, and impossible ones.
+    for (args, want) in [
+        (
+            &["--length", "0.2"][..],
+            "--length applies only to --primitive segments",
+        ),
+        (
+            &["--axis", "1"][..],
+            "--axis applies only to --primitive lines",
+        ),
+        (&["--primitive", "lines", "--axis", "2"][..], "--axis 2"),
+        (
+            &["--primitive", "lines", "--dims", "1"][..],
+            "dimension 2 or 3",
+        ),
+        (
+            &["--primitive", "segments", "--direction", "1,0,0"][..],
+            "--direction has 3 component(s)",
+        ),
+        (&["--k", "0"][..], "--k 0"),
+        (&["--threads", "0"][..], "--threads 0"),
+    ] {
+        let mut a = vec![
+            "spectrum",
+            "--sampler",
+            "random",
+            "-n",
+            "16",
+            "--out",
+            "never",
+        ];
+        a.extend(args);
+        let o = lab(&dir, &a);
+        assert!(!o.status.success(), "{a:?}");
+        assert!(stderr(&o).contains(want), "{a:?}: {}", stderr(&o));
+    }
+    assert!(!dir
+        .files()
+        .iter()
+        .any(|f| f.to_string_lossy().contains("never")));
+}
+
+#[test]
+fn spectrum_help_documents_the_formats() {
+    let dir = TempDir::new("spectrum-help");
+    let o = lab(&dir, &["spectrum", "--help"]);
+    assert!(o.status.success());
+    let help = String::from_utf8_lossy(&o.stdout);
+    for want in [
+        "radius,mean_np,std_error,count",
+        "--realizations",
+        "realisations",
+        "--input",
+        "--method",
+        "direct",
+        "point-count header",
+    ] {
+        assert!(help.contains(want), "{want}: {help}");
+    }
+}
