@@ -494,3 +494,18 @@ fn caller_buffers_work_without_alloc_conveniences() {
     assert_eq!(per.slice([1, 1], &mut out).unwrap(), 7);
     assert_eq!(out[1], 2.0_f64.min(out[1].max(2.0 - 1e-14)));
 }
+
+#[test]
+fn coordinates_far_outside_the_torus_are_reduced_exactly() {
+    // Found by the spectrum fuzz target: j·x overflowed for x ~ 1e308.
+    let g = Grid::<2>::new(7).unwrap();
+    let mut a = Dft::new_vec(g);
+    let mut b = Dft::new_vec(g);
+    let mut s = scratch_points(g, 4);
+    a.add_points(&[[1e308, -3.75], [2.0f64.powi(60) + 4096.0, 0.125]], &mut s)
+        .unwrap();
+    b.add_points(&[[0.0, 0.25], [0.0, 0.125]], &mut s).unwrap();
+    for i in 0..g.len() {
+        assert_eq!(a.amplitude_at(i), b.amplitude_at(i), "{:?}", g.freq(i));
+    }
+}

@@ -59,6 +59,9 @@ struct PhaseTable {
 impl PhaseTable {
     #[inline]
     fn new(x: f64, k: usize) -> Self {
+        // x mod 1, exactly (x − ⌊x⌋ is representable for every finite x), so
+        // j·x cannot overflow for coordinates far outside [0, 1).
+        let x = x - libm::floor(x);
         let mut small = [(1.0, 0.0); PHASE_BLOCK];
         for (r, e) in small.iter_mut().enumerate().skip(1).take(k) {
             *e = exact_phase(r, x);
