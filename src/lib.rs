@@ -16,7 +16,10 @@
 //!   Gaussian tails, tiny segments) and an `f32` SIMD batch path over
 //!   [`primitive::Rays32`];
 //! * point, segment and line estimators over any pattern ([`estimator`]) and
-//!   mergeable running statistics ([`stats`]).
+//!   mergeable running statistics ([`stats`]);
+//! * exact streaming periodograms of points, segments and lines, radial
+//!   averages and the spectral variance prediction
+//!   `Var = (1/N) Σ_{ν≠0} ⟨N·P(ν)⟩·|f̂(ν)|²` ([`spectrum`]).
 //!
 //! ## Quick start
 //!
