@@ -509,3 +509,68 @@ fn coordinates_far_outside_the_torus_are_reduced_exactly() {
         assert_eq!(a.amplitude_at(i), b.amplitude_at(i), "{:?}", g.freq(i));
     }
 }
+
+mod properties {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn pts2() -> impl Strategy<Value = Vec<[f64; 2]>> {
+        prop::collection::vec(prop::array::uniform2(-2.0f64..3.0), 1..40)
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(64))]
+
+        /// |F|² is invariant under a toroidal shift (F only gains the phase
+        /// e^{−2πiν·s}) and under reordering the samples, up to rounding.
+        #[test]
+        fn periodogram_is_shift_and_order_invariant(
+            pts in pts2(),
+            s in prop::array::uniform2(-1.0f64..1.0),
+            k in 1usize..12,
+            chunk in 1usize..9,
+        ) {
+            let g = Grid::<2>::new(k).unwrap();
+            let n = pts.len() as f64;
+            let mut sc = scratch_points(g, chunk);
+            let power = |p: &[[f64; 2]], sc: &mut Vec<f64>| {
+                let mut d = Dft::new_vec(g);
+                d.add_points(p, sc).unwrap();
+                let mut out = vec![0.0; g.len()];
+                d.power(&mut out).unwrap();
+                out
+            };
+            let base = power(&pts, &mut sc);
+            let shifted: Vec<[f64; 2]> = pts.iter().map(|p| [p[0] + s[0], p[1] + s[1]]).collect();
+            let mut reversed = pts.clone();
+            reversed.reverse();
+            for other in [power(&shifted, &mut sc), power(&reversed, &mut sc)] {
+                for (a, b) in base.iter().zip(&other) {
+                    prop_assert!((a - b).abs() <= 1e-13 * n, "{a} vs {b}");
+                }
+            }
+            // DC is N exactly; N·P ≤ N everywhere.
+            prop_assert_eq!(base[g.index([0, 0]).unwrap().0], n);
+            prop_assert!(base.iter().all(|&v| v <= n * (1.0 + 1e-12)));
+        }
+
+        /// A segment of length 0 is a point; SIMD and scalar segment paths agree.
+        #[test]
+        fn zero_length_segments_are_points(
+            pts in pts2(),
+            d in prop::array::uniform2(-1.0f64..1.0),
+            k in 1usize..10,
+        ) {
+            prop_assume!(d[0].abs() + d[1].abs() > 1e-6);
+            let g = Grid::<2>::new(k).unwrap();
+            let dir = Direction::new(d).unwrap();
+            let mut a = Dft::new_vec(g);
+            a.add_points(&pts, &mut scratch_points(g, 7)).unwrap();
+            let mut b = Dft::new_vec(g);
+            b.add_segment_pattern(&pts, &dir, 0.0, &mut scratch_segments(g, 5)).unwrap();
+            for i in 0..g.len() {
+                prop_assert_eq!(a.amplitude_at(i), b.amplitude_at(i));
+            }
+        }
+    }
+}
