@@ -90,8 +90,10 @@ pub enum Upsampling {
     /// Only meant for ε ≥ 1e-9: the deconvolution divides by
     /// `Π_d p(ν_d)`, which for σ = 5/4 falls by orders of magnitude between
     /// ν = 0 and ν = K, so FFT rounding errors are amplified by about
-    /// `(p(0)/p(K))^D`; measured relative l2 error at ε = 1e-12 in 2D is
-    /// about 4e-11 (tested bound 1e-10).
+    /// `(p(0)/p(K))^D`; measured relative l2 error at ε = 1e-12 (N = 200,
+    /// K = 20, n = 54) is 3e-13 in 1D, 5e-11 in 2D and 1.4e-8 in 3D (tested
+    /// bounds 1e-10, 1e-10, 1e-7). [`Upsampling::auto`] never picks it below
+    /// 1e-9.
     FiveQuarters,
 }
 
@@ -1072,9 +1074,14 @@ mod tests {
                     mx / n_pts as f64
                 );
                 // σ = 5/4 at tol < 1e-9: rounding errors amplified by the
-                // deconvolution (1/p(K))^D dominate; documented floor 1e-10.
+                // deconvolution (p(0)/p(K))^D dominate; documented floors
+                // (measured 4e-11 in 2D, 1.4e-8 in 3D at tol = 1e-12).
                 let bound = if sigma == Upsampling::FiveQuarters && tol < 1e-9 {
-                    1e-10
+                    if D == 3 {
+                        1e-7
+                    } else {
+                        1e-10
+                    }
                 } else {
                     C * tol
                 };
@@ -1095,7 +1102,7 @@ mod tests {
 
     #[test]
     fn accuracy_3d() {
-        check::<3>(200, 8, 3);
+        check::<3>(200, 20, 3);
     }
 
     fn single<const D: usize>(pts: &[[f64; D]], k: usize, tol: f64) -> f64 {
@@ -1130,6 +1137,15 @@ mod tests {
         plan.transform(&outside, &mut re, &mut im).unwrap();
         let (er, ei) = direct::<2>(&outside, None, 6);
         assert!(errors(&re, &im, &er, &ei).0 < tol);
+        // K = 0: the single mode is the weight sum.
+        let mut p0 = Plan::<3>::new(0, tol).unwrap();
+        let (mut r0, mut i0) = ([0.0], [0.0]);
+        p0.transform(&[[0.1, 0.2, 0.3], [0.9, 0.0, 0.5]], &mut r0, &mut i0)
+            .unwrap();
+        assert!(
+            (r0[0] - 2.0).abs() < tol && i0[0].abs() < tol,
+            "{r0:?} {i0:?}"
+        );
         // No points: all zero.
         plan.transform(&[], &mut re, &mut im).unwrap();
         assert!(re.iter().chain(&im).all(|&v| v == 0.0));
