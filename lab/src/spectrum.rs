@@ -25,6 +25,7 @@ use linesample::Seed;
 use crate::plot::xml_escape;
 use crate::sampler::{self, Sampler, Spec};
 use crate::{output, png};
+use linesample_lab::nufft;
 
 /// The CSV header.
 pub const CSV_HEADER: &str = "radius,mean_np,std_error,count";
@@ -134,7 +135,23 @@ pub enum Method {
     /// Exact direct sum over samples and frequencies (`linesample::spectrum::Dft`):
     /// about N*(cells of the half grid) complex multiply-adds per realisation.
     Direct,
+    /// Type-1 non-uniform FFT (`linesample_lab::nufft`: exponential-of-semicircle
+    /// spreading, FFT, deconvolution) with relative l2 error at most --tol on the
+    /// amplitudes. Points and lines only (segment weights depend on the frequency).
+    Nufft,
 }
+
+impl Method {
+    fn name(self) -> &'static str {
+        match self {
+            Method::Direct => "direct",
+            Method::Nufft => "nufft",
+        }
+    }
+}
+
+/// Default `--tol` of the NUFFT method.
+const DEFAULT_TOL: f64 = 1e-9;
 
 /// Options of `linesample-lab spectrum`.
 #[derive(Debug, Args)]
@@ -238,6 +255,12 @@ pub struct SpectrumArgs {
     #[arg(long, value_enum, default_value_t = Method::Direct)]
     method: Method,
 
+    /// NUFFT only: requested relative l2 accuracy of the amplitudes, in
+    /// [1e-14, 1e-1] (the accuracy/time knob: see `cargo run --release -p
+    /// linesample-lab --example nufft_bench`) [default: 1e-9].
+    #[arg(long, value_name = "EPS")]
+    tol: Option<f64>,
+
     /// Read the point sets from these files instead of a sampler, one
     /// realisation per file (format below).
     #[arg(long, value_name = "FILE", num_args = 1..)]
@@ -282,6 +305,9 @@ struct Config {
     n_min: usize,
     seed: u64,
     threads: usize,
+    method: Method,
+    /// NUFFT tolerance.
+    tol: f64,
     out: PathBuf,
     /// `jittered`, or the first input file's stem.
     label: String,
@@ -451,6 +477,24 @@ fn read_points(path: &Path, notes: &mut Vec<String>) -> Result<(usize, Vec<f64>)
 fn resolve(a: &SpectrumArgs) -> Result<Config, String> {
     let mut notes = Vec::new();
     let prim = a.primitive;
+    let tol = match (a.method, a.tol) {
+        (Method::Direct, Some(_)) => {
+            return Err("--tol applies to --method nufft only (the direct method is exact)".into())
+        }
+        (Method::Direct, None) => 0.0,
+        (Method::Nufft, t) => {
+            let t = t.unwrap_or(DEFAULT_TOL);
+            if !(1e-14..=1e-1).contains(&t) {
+                return Err(format!("--tol {t}: expected a number in [1e-14, 1e-1]"));
+            }
+            if prim == Primitive::Segments {
+                return Err("--method nufft supports --primitive points and lines; \
+                            segment weights sinc(L nu.omega) depend on the frequency: use --method direct"
+                    .into());
+            }
+            t
+        }
+    };
     let (source, dims, n, n_min, label, detail, realisations) = if a.input.is_empty() {
         let sampler = a.sampler.ok_or("give --sampler or --input (see --help)")?;
         let dims = usize::from(a.dims.unwrap_or(2));
@@ -599,6 +643,8 @@ fn resolve(a: &SpectrumArgs) -> Result<Config, String> {
         n_min,
         seed: a.seed,
         threads,
+        method: a.method,
+        tol,
         out,
         label,
         detail,
@@ -608,7 +654,6 @@ fn resolve(a: &SpectrumArgs) -> Result<Config, String> {
 
 /// Entry point of the subcommand.
 pub fn run(a: &SpectrumArgs) -> Result<(), String> {
-    let Method::Direct = a.method;
     let cfg = resolve(a)?;
     match (cfg.dims, cfg.primitive == Primitive::Lines) {
         (1, false) => run_dims::<1, 1>(&cfg),
@@ -638,7 +683,7 @@ struct Merge<const E: usize> {
     next: u64,
     /// Finished realisations waiting for their predecessors: amplitudes and
     /// ring means.
-    pending: BTreeMap<u64, (Dft<E, Vec<f64>>, Vec<f64>)>,
+    pending: BTreeMap<u64, (Amplitudes<E>, Vec<f64>)>,
     /// Amplitude buffers to reuse.
     spare: Vec<Dft<E, Vec<f64>>>,
     total: Periodogram<E, Vec<f64>>,
@@ -647,19 +692,53 @@ struct Merge<const E: usize> {
     busy: Duration,
 }
 
+/// One realisation's amplitudes: the kernel's exact accumulator, or the
+/// NUFFT's half-grid arrays.
+enum Amplitudes<const E: usize> {
+    Direct(Dft<E, Vec<f64>>),
+    Nufft { re: Vec<f64>, im: Vec<f64>, n: u64 },
+}
+
 impl<const E: usize> Merge<E> {
     fn drain(&mut self) -> Result<(), String> {
-        while let Some((dft, ring)) = self.pending.remove(&self.next) {
-            self.total
-                .add(&dft)
-                .map_err(|e| format!("realisation {}: {e}", self.next))?;
+        while let Some((amps, ring)) = self.pending.remove(&self.next) {
+            let added = match &amps {
+                Amplitudes::Direct(dft) => self.total.add(dft),
+                Amplitudes::Nufft { re, im, n } => self.total.add_amplitudes(re, im, *n),
+            };
+            added.map_err(|e| format!("realisation {}: {e}", self.next))?;
             for (s, &v) in self.rings.iter_mut().zip(&ring) {
                 s.push(v);
             }
             self.next += 1;
-            self.spare.push(dft);
+            if let Amplitudes::Direct(dft) = amps {
+                self.spare.push(dft);
+            }
         }
         Ok(())
+    }
+}
+
+/// Ring means of `|F|²/n` from half-grid amplitudes (as `Dft::radial_power`).
+fn ring_means<const E: usize>(
+    grid: Grid<E>,
+    re: &[f64],
+    im: &[f64],
+    n: u64,
+    count: &[u64],
+    out: &mut [f64],
+) {
+    out.fill(0.0);
+    let inv = 1.0 / n as f64;
+    for i in 0..grid.len() {
+        if let Some(r) = grid.ring(i) {
+            out[r] += f64::from(grid.multiplicity(i)) * (re[i] * re[i] + im[i] * im[i]) * inv;
+        }
+    }
+    for (m, &c) in out.iter_mut().zip(count) {
+        if c > 0 {
+            *m /= c as f64;
+        }
     }
 }
 
@@ -703,6 +782,27 @@ fn realisation_points<const D: usize>(
             Ok(to_points(&mut f.coords.iter().copied(), f.coords.len() / D))
         }
         (Source::Pattern(_), None) => Err("internal error: no pattern".into()),
+    }
+}
+
+/// The `E`-dim sample coordinates of one realisation: the points, or the line
+/// offsets (points with the line axis dropped).
+fn sample_coords<const D: usize, const E: usize>(
+    cfg: &Config,
+    pts: &[[f64; D]],
+    buf: &mut Vec<[f64; E]>,
+) -> Result<(), String> {
+    buf.clear();
+    buf.resize(pts.len(), [0.0; E]);
+    match cfg.primitive {
+        Primitive::Lines => line_offsets::<D, E, f64>(pts, cfg.axis, buf)
+            .map_err(|e| format!("--primitive lines: {e}")),
+        _ => {
+            for (o, p) in buf.iter_mut().zip(pts) {
+                o.copy_from_slice(&p[..E]);
+            }
+            Ok(())
+        }
     }
 }
 
@@ -759,6 +859,16 @@ fn worker<const D: usize, const E: usize>(job: &Job<'_, E>) -> Result<(), String
     let mut dft = Dft::<E, Vec<f64>>::new_vec(job.grid);
     let mut buf: Vec<[f64; E]> = Vec::new();
     let mut count = vec![0u64; cfg.k + 1];
+    job.grid
+        .ring_counts(&mut count)
+        .map_err(|e| e.to_string())?;
+    let mut plan = match cfg.method {
+        Method::Direct => None,
+        Method::Nufft => Some(
+            nufft::Plan::<E>::new_for_points(cfg.k, cfg.tol, cfg.n)
+                .map_err(|e| format!("--method nufft: {e}"))?,
+        ),
+    };
     while !job.stop.load(Ordering::Relaxed) {
         let r = job.next.fetch_add(1, Ordering::Relaxed);
         if r >= cfg.realisations {
@@ -766,12 +876,29 @@ fn worker<const D: usize, const E: usize>(job: &Job<'_, E>) -> Result<(), String
         }
         let t = Instant::now();
         let mut ring = vec![0.0; cfg.k + 1];
-        let step = realisation_points::<D>(cfg, built.as_ref(), r).and_then(|pts| {
-            add_samples::<D, E>(job, &pts, &mut dft, &mut buf, &mut scratch)?;
-            dft.radial_power(&mut ring, &mut count)
-                .map_err(|e| e.to_string())
-        });
-        if let Err(e) = step {
+        let step =
+            realisation_points::<D>(cfg, built.as_ref(), r).and_then(|pts| match &mut plan {
+                None => {
+                    add_samples::<D, E>(job, &pts, &mut dft, &mut buf, &mut scratch)?;
+                    dft.radial_power(&mut ring, &mut count)
+                        .map_err(|e| e.to_string())?;
+                    Ok(None)
+                }
+                Some(plan) => {
+                    sample_coords::<D, E>(cfg, &pts, &mut buf)?;
+                    let len = job.grid.len();
+                    let (mut re, mut im) = (vec![0.0; len], vec![0.0; len]);
+                    plan.transform(&buf, &mut re, &mut im)
+                        .map_err(|e| format!("--method nufft: {e}"))?;
+                    let n = buf.len() as u64;
+                    if n == 0 {
+                        return Err("no points".into());
+                    }
+                    ring_means(job.grid, &re, &im, n, &count, &mut ring);
+                    Ok(Some(Amplitudes::Nufft { re, im, n }))
+                }
+            });
+        if let Err(e) = &step {
             job.stop.store(true, Ordering::Relaxed);
             return Err(match &cfg.source {
                 Source::Files(files) => format!("{}: {e}", files[r as usize].path.display()),
@@ -781,15 +908,18 @@ fn worker<const D: usize, const E: usize>(job: &Job<'_, E>) -> Result<(), String
         let busy = t.elapsed();
         let mut m = lock(&job.merge)?;
         m.busy += busy;
-        m.pending.insert(r, (dft, ring));
+        let amps = match step {
+            Ok(Some(amps)) => amps,
+            _ => {
+                let next = m.spare.pop().unwrap_or_else(|| Dft::new_vec(job.grid));
+                Amplitudes::Direct(std::mem::replace(&mut dft, next))
+            }
+        };
+        m.pending.insert(r, (amps, ring));
         if let Err(e) = m.drain() {
             job.stop.store(true, Ordering::Relaxed);
             return Err(e);
         }
-        dft = match m.spare.pop() {
-            Some(d) => d,
-            None => Dft::new_vec(job.grid),
-        };
     }
     Ok(())
 }
@@ -907,7 +1037,7 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
     let grid_desc = vec![side.to_string(); E].join("x");
     println!(
         "spectrum: {} {}D, {}; N = {}, k = {k} ({E}D grid {grid_desc}), R = {} realisation(s){}, \
-         method direct, {} thread(s)",
+         method {}, {} thread(s)",
         cfg.source_desc(),
         cfg.dims,
         cfg.primitive_desc(),
@@ -916,6 +1046,10 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
         match cfg.source {
             Source::Pattern(_) => format!(", seed {}", cfg.seed),
             Source::Files(_) => String::new(),
+        },
+        match cfg.method {
+            Method::Direct => cfg.method.name().to_string(),
+            Method::Nufft => format!("nufft (tol {:e})", cfg.tol),
         },
         cfg.threads
     );

@@ -1149,3 +1149,110 @@ fn spectrum_help_documents_the_formats() {
         assert!(help.contains(want), "{want}: {help}");
     }
 }
+
+#[test]
+fn spectrum_nufft_matches_direct_to_its_tolerance() {
+    let dir = TempDir::new("spectrum-nufft");
+    for (dims, prim, tol) in [
+        ("2", "points", "1e-12"),
+        ("3", "lines", "1e-10"),
+        ("1", "points", "1e-6"),
+    ] {
+        let mut rows = Vec::new();
+        for method in ["direct", "nufft"] {
+            let out = format!("res/{dims}{prim}-{method}");
+            let mut args = vec![
+                "spectrum",
+                "--sampler",
+                "jittered",
+                "--dims",
+                dims,
+                "-n",
+                "64",
+                "--k",
+                "9",
+                "--realizations",
+                "3",
+                "--primitive",
+                prim,
+                "--method",
+                method,
+                "--out",
+                &out,
+            ];
+            if method == "nufft" {
+                args.extend(["--tol", tol]);
+            }
+            let o = lab(&dir, &args);
+            assert!(o.status.success(), "{}", stderr(&o));
+            assert!(String::from_utf8_lossy(&o.stdout).contains(&format!("method {method}")));
+            rows.push(spectrum_rows(&dir.path().join(format!("{out}-radial.csv"))));
+        }
+        let tol: f64 = tol.parse().unwrap();
+        for (a, b) in rows[0].iter().zip(&rows[1]) {
+            assert_eq!((a.0, a.3), (b.0, b.3));
+            // Relative l2 error ≤ tol on the amplitudes → ring means of |F|²/N
+            // within a few tol of N·P's scale (N = 64, |F|² ≤ N²).
+            assert!(
+                (a.1 - b.1).abs() <= 4.0 * tol * 64.0,
+                "ring {}: {} vs {}",
+                a.0,
+                a.1,
+                b.1
+            );
+        }
+    }
+    // --tol belongs to nufft; nufft does not do segments.
+    let o = lab(
+        &dir,
+        &[
+            "spectrum",
+            "--sampler",
+            "random",
+            "--tol",
+            "1e-6",
+            "--out",
+            "res/x",
+        ],
+    );
+    assert!(!o.status.success() && stderr(&o).contains("--tol applies to --method nufft"));
+    let o = lab(
+        &dir,
+        &[
+            "spectrum",
+            "--sampler",
+            "random",
+            "--method",
+            "nufft",
+            "--primitive",
+            "segments",
+            "--out",
+            "res/x",
+        ],
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("segment"),
+        "{}",
+        stderr(&o)
+    );
+    let o = lab(
+        &dir,
+        &[
+            "spectrum",
+            "--sampler",
+            "random",
+            "--method",
+            "nufft",
+            "--tol",
+            "0",
+            "--out",
+            "res/x",
+        ],
+    );
+    assert!(
+        !o.status.success() && stderr(&o).contains("--tol 0"),
+        "{}",
+        stderr(&o)
+    );
+    no_tmp_files(&dir);
+}
