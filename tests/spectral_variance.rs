@@ -574,3 +574,64 @@ fn table_3d() {
     }
     report(&rows);
 }
+
+/// The radial form `(1/N) Σ_r count_r P̆_S(r) P̆_f(r)` against the lattice sum
+/// `(1/N) Σ_ν ⟨N·P⟩ |f̂|²` from the same periodogram: equal when the sampling
+/// spectrum is constant on rings, close for isotropic blue noise.
+#[test]
+fn radial_form_matches_the_lattice_sum() {
+    use linesample::spectrum::{radial_variance, Periodogram};
+    let disk = Ball::<2>::new([0.41, 0.53], 0.27).unwrap();
+    let k = 24;
+    let g = Grid::<2>::new(k).unwrap();
+    let pf = |j: [i32; 2]| disk.fourier(&j).norm_sqr();
+    let (mut f_mean, mut count) = (vec![0.0; k + 1], vec![0u64; k + 1]);
+    g.radial_mean_of(pf, &mut f_mean, &mut count).unwrap();
+    // Ring-constant sampling spectrum: identical up to rounding.
+    let s_ring: Vec<f64> = (0..=k).map(|r| 1.0 - (-(r as f64) / 5.0).exp()).collect();
+    let lattice: f64 = (0..g.len())
+        .filter(|&i| g.freq(i) != [0, 0])
+        .filter_map(|i| {
+            g.ring(i)
+                .map(|r| f64::from(g.multiplicity(i)) * s_ring[r] * pf(g.freq(i)))
+        })
+        .sum::<f64>()
+        / 64.0;
+    let radial = radial_variance(64, &s_ring, &f_mean, &count).unwrap();
+    assert!(
+        (radial / lattice - 1.0).abs() < 1e-13,
+        "{radial} vs {lattice}"
+    );
+    // Poisson-disk points (isotropic): the within-ring covariance is small.
+    let pd = PoissonN {
+        disk: PoissonDisk::<2>::for_n(64, 0.65)
+            .unwrap()
+            .with_method(PoissonMethod::MaximalDartThrowing),
+        n: 64,
+    };
+    let mut per = Periodogram::new_vec(g);
+    let mut dft = Dft::new_vec(g);
+    let mut sc = vec![0.0; 64 * Dft::<2, Vec<f64>>::points_scratch_per_sample(g)];
+    let mut pts = vec![[0.0f32; 2]; 64];
+    for r in 0..200 {
+        pd.fill(Seed::new(4).realization(r), &mut pts).unwrap();
+        dft.clear();
+        dft.add_points(&pts, &mut sc).unwrap();
+        per.add(&dft).unwrap();
+    }
+    let mut s_mean = vec![0.0; k + 1];
+    per.radial_average(&mut s_mean, &mut count).unwrap();
+    let radial = radial_variance(64, &s_mean, &f_mean, &count).unwrap();
+    // Rings are complete only up to k: compare with the lattice sum over the
+    // same frequencies (|ν| rounding to ≤ k).
+    let lattice: f64 = (0..g.len())
+        .filter(|&i| g.freq(i) != [0, 0] && g.ring(i).is_some())
+        .map(|i| f64::from(g.multiplicity(i)) * per.mean_at(i) * pf(g.freq(i)))
+        .sum::<f64>()
+        / 64.0;
+    println!("Poisson disk, disk integrand: radial form {radial:.5e}, lattice {lattice:.5e}");
+    assert!(
+        (radial / lattice - 1.0).abs() < 0.03,
+        "{radial} vs {lattice}"
+    );
+}

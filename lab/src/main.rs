@@ -51,17 +51,24 @@ enum Command {
     /// Write one pattern as PREFIX.txt (points) and PREFIX.svg (plot).
     #[command(after_long_help = FORMATS)]
     Patterns(PatternsArgs),
-    /// Write every sampler in 2D and 3D with an index (the default command).
+    /// Write every sampler in 2D and 3D with its spectrum and an index (the
+    /// default command).
     ///
     /// Samplers random, jittered, n-rooks, sobol, halton, poisson-disk (maximal
     /// dart throwing, relative radius 0.75) and ccvt in 2D and 3D, and
     /// multi-jittered and cmj in 2D (they are 2D only), all with N = 1024 points
     /// except jittered 3D, which uses N = 1000 = 10x10x10 strata. For each one it
-    /// writes `OUT_DIR/<sampler>-<dims>d-<N>.txt` and `.svg`, prints a table
+    /// writes `OUT_DIR/<sampler>-<dims>d-<N>.txt` and `.svg` (realisation 0), and
+    /// the mean periodogram of --spectrum-realizations realisations as
+    /// `OUT_DIR/<sampler>-<dims>d-<N>-spectrum.png`, `-spectrum-radial.csv` and
+    /// `-spectrum-radial.svg` (as `spectrum --method nufft --tol 1e-9` on the
+    /// default grid; the 3D image is the slice nu_z = 0). It prints a table
     /// (sampler, dims, N, median time of --runs calls to Pattern::fill in
-    /// microseconds, which excludes formatting and file output; files) and writes
-    /// the same rows to OUT_DIR/index.csv (file names relative to OUT_DIR) under
-    /// the header sampler,dims,n,seed,median_us,txt,svg.
+    /// microseconds, which excludes formatting and file output; the mean <N*P>
+    /// over the low rings 1..round(sqrt(N)/4) and the high rings ceil(k/2)..k;
+    /// files) and writes the same rows to OUT_DIR/index.csv (file names relative
+    /// to OUT_DIR; spectrum = the spectrum files' prefix) under the header
+    /// sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum.
     #[command(after_long_help = FORMATS)]
     Gallery(GalleryArgs),
     /// Measure how the variance of one estimator falls as N grows; write
@@ -180,6 +187,20 @@ struct GalleryArgs {
     /// Timed fills per pattern; the table reports the median.
     #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     runs: u32,
+
+    /// Realisations R averaged into each pattern's spectrum (0: no spectra).
+    #[arg(
+        long,
+        value_name = "R",
+        default_value_t = 16,
+        visible_alias = "spectrum-realisations"
+    )]
+    spectrum_realizations: u64,
+
+    /// Worker threads for the spectra [default: the available parallelism].
+    /// The files do not depend on it.
+    #[arg(long, value_name = "T")]
+    threads: Option<usize>,
 }
 
 impl Default for GalleryArgs {
@@ -188,6 +209,8 @@ impl Default for GalleryArgs {
             out_dir: PathBuf::from("out/patterns"),
             seed: 1,
             runs: 5,
+            spectrum_realizations: 16,
+            threads: None,
         }
     }
 }
@@ -304,6 +327,9 @@ fn patterns(a: &PatternsArgs) -> Result<(), String> {
     Ok(())
 }
 
+/// Header of the gallery's `index.csv`.
+const GALLERY_HEADER: &str = "sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum";
+
 /// The gallery's patterns: every sampler in every dimension it supports out of
 /// 2 and 3, with its N.
 fn gallery_entries() -> Vec<(Sampler, usize, usize)> {
@@ -324,10 +350,16 @@ fn gallery_entries() -> Vec<(Sampler, usize, usize)> {
 }
 
 fn gallery(a: &GalleryArgs) -> Result<(), String> {
-    let mut csv = String::from("sampler,dims,n,seed,median_us,txt,svg\n");
+    let mut csv = String::from(GALLERY_HEADER);
+    csv.push('\n');
+    let threads = a
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let spectra = a.spectrum_realizations > 0;
+    let mut spectrum_ms = 0.0;
     println!(
-        "{:<15} {:>4} {:>6} {:>12}  files",
-        "sampler", "dims", "N", "median µs"
+        "{:<15} {:>4} {:>6} {:>12} {:>9} {:>9}  files",
+        "sampler", "dims", "N", "median µs", "NP low", "NP high"
     );
     for (sampler, dims, n) in gallery_entries() {
         let spec = Spec {
@@ -352,21 +384,50 @@ fn gallery(a: &GalleryArgs) -> Result<(), String> {
         let (txt, svg) = (a.out_dir.join(&txt_name), a.out_dir.join(&svg_name));
         output::write_atomic(&[(txt.clone(), r.txt), (svg.clone(), r.svg)])?;
         let us = r.median.as_secs_f64() * 1e6;
+        let (low, high, spec_name) = if spectra {
+            let stem = format!("{stem}-spectrum");
+            let s = spectrum::pattern_spectrum(
+                &spec,
+                a.seed,
+                a.spectrum_realizations,
+                threads,
+                a.out_dir.join(&stem),
+            )
+            .map_err(|e| format!("gallery, {sampler} {dims}D spectrum: {e}"))?;
+            spectrum_ms += s.ms * a.spectrum_realizations as f64;
+            (format!("{:.4}", s.low), format!("{:.4}", s.high), stem)
+        } else {
+            (String::new(), String::new(), String::new())
+        };
         println!(
-            "{:<15} {:>4} {:>6} {:>12.1}  {} {}",
+            "{:<15} {:>4} {:>6} {:>12.1} {:>9} {:>9}  {} {}{}",
             sampler.name(),
             dims,
             r.n,
             us,
+            low,
+            high,
             txt.display(),
-            svg.display()
+            svg.display(),
+            if spectra {
+                format!(" {}.png", a.out_dir.join(&spec_name).display())
+            } else {
+                String::new()
+            }
         );
         csv.push_str(&format!(
-            "{},{dims},{},{},{us:.1},{txt_name},{svg_name}\n",
+            "{},{dims},{},{},{us:.1},{txt_name},{svg_name},{low},{high},{spec_name}\n",
             sampler.name(),
             r.n,
             a.seed
         ));
+    }
+    if spectra {
+        println!(
+            "spectra: {} realisations each, {:.2} s of pattern generation and NUFFT in all",
+            a.spectrum_realizations,
+            spectrum_ms / 1e3
+        );
     }
     let index = a.out_dir.join("index.csv");
     output::write_atomic(&[(index.clone(), csv.into_bytes())])?;

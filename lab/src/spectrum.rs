@@ -656,13 +656,14 @@ fn resolve(a: &SpectrumArgs) -> Result<Config, String> {
 pub fn run(a: &SpectrumArgs) -> Result<(), String> {
     let cfg = resolve(a)?;
     match (cfg.dims, cfg.primitive == Primitive::Lines) {
-        (1, false) => run_dims::<1, 1>(&cfg),
-        (2, false) => run_dims::<2, 2>(&cfg),
-        (3, false) => run_dims::<3, 3>(&cfg),
-        (2, true) => run_dims::<2, 1>(&cfg),
-        (3, true) => run_dims::<3, 2>(&cfg),
+        (1, false) => run_dims::<1, 1>(&cfg, false),
+        (2, false) => run_dims::<2, 2>(&cfg, false),
+        (3, false) => run_dims::<3, 3>(&cfg, false),
+        (2, true) => run_dims::<2, 1>(&cfg, false),
+        (3, true) => run_dims::<3, 2>(&cfg, false),
         (d, _) => Err(format!("internal error: dimension {d}")),
     }
+    .map(|_| ())
 }
 
 /// What the workers share. Realisations are claimed in order from `next` and
@@ -1025,7 +1026,63 @@ fn band_mean(mean: &[f64], count: &[u64], lo: usize, hi: usize) -> f64 {
     }
 }
 
-fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> {
+/// What a run measured, for callers that make their own tables (the gallery).
+#[derive(Clone, Debug)]
+pub struct Summary {
+    /// Mean `⟨N·P⟩` over rings `⌈k/2⌉..k`.
+    pub high: f64,
+    /// Mean `⟨N·P⟩` over rings `1..round(√N/4)`.
+    pub low: f64,
+    /// Milliseconds per realisation.
+    pub ms: f64,
+}
+
+/// The spectrum of `R` realisations of a sampler's points on the default grid
+/// (NUFFT, tolerance 1e-9), written to `out` (`PREFIX.png`,
+/// `PREFIX-radial.csv`, `PREFIX-radial.svg`) without printing: the gallery's
+/// spectra.
+pub fn pattern_spectrum(
+    spec: &Spec,
+    seed: u64,
+    realisations: u64,
+    threads: usize,
+    out: PathBuf,
+) -> Result<Summary, String> {
+    let n = sampler::build(spec)?.pattern.len();
+    let cfg = Config {
+        source: Source::Pattern(spec.clone()),
+        dims: spec.dims,
+        primitive: Primitive::Points,
+        length: 0.0,
+        direction: Vec::new(),
+        axis: 0,
+        k: default_k(n, spec.dims),
+        realisations,
+        n,
+        n_min: n,
+        seed,
+        threads: threads.max(1),
+        method: Method::Nufft,
+        tol: DEFAULT_TOL,
+        out,
+        label: spec.sampler.name().to_string(),
+        detail: None,
+        notes: Vec::new(),
+    };
+    match cfg.dims {
+        1 => run_dims::<1, 1>(&cfg, true),
+        2 => run_dims::<2, 2>(&cfg, true),
+        3 => run_dims::<3, 3>(&cfg, true),
+        d => Err(format!("internal error: dimension {d}")),
+    }
+}
+
+fn run_dims<const D: usize, const E: usize>(cfg: &Config, quiet: bool) -> Result<Summary, String> {
+    let say = |line: &str| {
+        if !quiet {
+            println!("{line}");
+        }
+    };
     for note in &cfg.notes {
         eprintln!("note: {note}");
     }
@@ -1035,7 +1092,7 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
     let k = cfg.k;
     let side = 2 * k + 1;
     let grid_desc = vec![side.to_string(); E].join("x");
-    println!(
+    say(&format!(
         "spectrum: {} {}D, {}; N = {}, k = {k} ({E}D grid {grid_desc}), R = {} realisation(s){}, \
          method {}, {} thread(s)",
         cfg.source_desc(),
@@ -1052,7 +1109,7 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
             Method::Nufft => format!("nufft (tol {:e})", cfg.tol),
         },
         cfg.threads
-    );
+    ));
     let (hi_lo, low_hi) = (
         k.div_ceil(2).max(1),
         ((cfg.n as f64).sqrt() / 4.0).round().max(1.0) as usize,
@@ -1063,7 +1120,7 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
     let ms = res.busy.as_secs_f64() * 1e3 / cfg.realisations as f64;
     let high_h = format!("<N*P> rings {hi_lo}..{k}");
     let low_h = format!("<N*P> rings 1..{low_hi}");
-    println!(
+    say(&format!(
         "{:>10} {:>6} {:>6} {:>12} {:>w1$} {:>w2$}",
         "N",
         "k",
@@ -1073,8 +1130,8 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
         low_h,
         w1 = high_h.len().max(10),
         w2 = low_h.len().max(10)
-    );
-    println!(
+    ));
+    say(&format!(
         "{:>10} {:>6} {:>6} {:>12.2} {:>w1$.4} {:>w2$.4}",
         cfg.n_desc(),
         k,
@@ -1084,8 +1141,8 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
         low,
         w1 = high_h.len().max(10),
         w2 = low_h.len().max(10)
-    );
-    println!("total wall time {:.2} s", wall.as_secs_f64());
+    ));
+    say(&format!("total wall time {:.2} s", wall.as_secs_f64()));
 
     let mut csv = String::with_capacity(64 * (k + 1));
     csv.push_str(CSV_HEADER);
@@ -1124,20 +1181,20 @@ fn run_dims<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> 
     }
     output::write_atomic(&files)?;
     if E >= 2 {
-        println!(
+        say(&format!(
             "wrote {}, {} and {}",
             png_path.display(),
             csv_path.display(),
             svg_path.display()
-        );
+        ));
     } else {
-        println!(
+        say(&format!(
             "wrote {} and {} (no PNG: the spectrum is 1D)",
             csv_path.display(),
             svg_path.display()
-        );
+        ));
     }
-    Ok(())
+    Ok(Summary { high, low, ms })
 }
 
 /// `PREFIX` + `suffix` (e.g. `-radial.csv`).

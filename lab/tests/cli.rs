@@ -265,21 +265,49 @@ fn unwritable_output_fails_without_partial_files() {
 #[test]
 fn gallery_writes_every_pattern_and_the_index() {
     let dir = TempDir::new("gallery");
-    let o = lab(&dir, &["gallery", "--out-dir", "g", "--runs", "1"]);
+    let o = lab(
+        &dir,
+        &[
+            "gallery",
+            "--out-dir",
+            "g",
+            "--runs",
+            "1",
+            "--spectrum-realizations",
+            "2",
+        ],
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     let csv = fs::read_to_string(dir.path().join("g/index.csv")).unwrap();
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("sampler,dims,n,seed,median_us,txt,svg"));
+    assert_eq!(
+        lines.next(),
+        Some("sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum")
+    );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(rows.len(), 16, "{csv}");
     for r in &rows {
-        assert_eq!(r.len(), 7, "{r:?}");
+        assert_eq!(r.len(), 10, "{r:?}");
         let (d, n): (usize, usize) = (r[1].parse().unwrap(), r[2].parse().unwrap());
         assert_eq!(r[3], "1");
         assert!(r[4].parse::<f64>().unwrap() >= 0.0);
         check_points(&dir.path().join("g").join(r[5]), n, d);
         let per_point = if d == 3 { 3 } else { 1 };
         assert_eq!(circles(&dir.path().join("g").join(r[6])), n * per_point);
+        // Spectra: every pattern is close to white at high frequencies; the
+        // stratified and blue-noise ones are well below 1 at low frequencies.
+        let (low, high): (f64, f64) = (r[7].parse().unwrap(), r[8].parse().unwrap());
+        assert!((0.5..1.5).contains(&high), "{r:?}");
+        if d == 2 && ["jittered", "poisson-disk", "ccvt", "cmj"].contains(&r[0]) {
+            assert!(low < 0.6, "{r:?}");
+        }
+        let stem = dir.path().join("g").join(r[9]);
+        assert!(stem.with_extension("png").is_file() || d == 1, "{r:?}");
+        assert_eq!(
+            spectrum_rows(&PathBuf::from(format!("{}-radial.csv", stem.display()))).len(),
+            if d == 2 { 159 } else { 64 },
+            "{r:?}"
+        );
     }
     for (s, d) in [
         ("multi-jittered", "2"),
@@ -298,6 +326,7 @@ fn gallery_writes_every_pattern_and_the_index() {
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("median"), "{stdout}");
     assert_eq!(stdout.lines().filter(|l| l.contains(".svg")).count(), 16);
+    no_tmp_files(&dir);
 }
 
 #[test]

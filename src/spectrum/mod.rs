@@ -608,6 +608,70 @@ impl Prediction {
     }
 }
 
+/// The radial form of the variance (Pilleboue et al. 2015, `paper-notes`
+/// §3.1), `Var = (μ(S^{D−1})/N) ∫ ρ^{D−1} P̆_S(ρ) P̆_f(ρ) dρ`, on the lattice:
+/// `(1/N) Σ_{r≥1} count_r · P̆_S(r) · P̆_f(r)`, where `P̆_S` are ring means of
+/// `⟨N·P⟩` ([`Periodogram::radial_average`]), `P̆_f` ring means of the
+/// integrand power spectrum ([`Grid::radial_mean_of`]) and `count_r` the
+/// frequencies per ring (`≈ μ(S^{D−1}) r^{D−1}`). It equals
+/// [`Periodogram::predict_variance`] when either spectrum is constant on each
+/// ring, and approximates it for isotropic ones; the difference is the
+/// within-ring covariance of the two spectra.
+///
+/// # Errors
+/// [`SpectrumError::Length`] unless the three slices have the same length.
+pub fn radial_variance(
+    n: u64,
+    sampling: &[f64],
+    integrand: &[f64],
+    count: &[u64],
+) -> Result<f64, SpectrumError> {
+    check_len("integrand", integrand.len(), sampling.len())?;
+    check_len("count", count.len(), sampling.len())?;
+    let mut s = 0.0;
+    for r in 1..sampling.len() {
+        s += count[r] as f64 * sampling[r] * integrand[r];
+    }
+    Ok(s / n as f64)
+}
+
+impl<const D: usize> Grid<D> {
+    /// Ring means (rings `0..=k`, as [`Periodogram::radial_average`]) of a
+    /// function of the frequency, e.g. the integrand power spectrum
+    /// `|f̂(ν)|²` (averaged over `ν` and `−ν`). Both slices must have length
+    /// `k + 1`.
+    ///
+    /// # Errors
+    /// [`SpectrumError::Length`].
+    pub fn radial_mean_of(
+        &self,
+        mut f: impl FnMut([i32; D]) -> f64,
+        mean: &mut [f64],
+        count: &mut [u64],
+    ) -> Result<(), SpectrumError> {
+        check_len("mean", mean.len(), self.k + 1)?;
+        self.ring_counts(count)?;
+        mean.fill(0.0);
+        for i in 0..self.len() {
+            if let Some(r) = self.ring(i) {
+                let j = self.freq(i);
+                let v = if self.multiplicity(i) == 2 {
+                    f(j) + f(j.map(|x| -x))
+                } else {
+                    f(j)
+                };
+                mean[r] += v;
+            }
+        }
+        for (m, &c) in mean.iter_mut().zip(count.iter()) {
+            if c > 0 {
+                *m /= c as f64;
+            }
+        }
+        Ok(())
+    }
+}
+
 /// Ring means of a per-cell quantity (shared by periodograms and single
 /// realisations); `count` already holds the ring counts.
 fn radial_into<const D: usize>(
