@@ -574,3 +574,35 @@ mod properties {
         }
     }
 }
+
+#[test]
+fn issue_case_n4096_on_the_639_grid_matches_the_naive_loop() {
+    // The benchmark case (N = 4096 uniform points, k = 319): every corner and
+    // axis end plus 300 random cells against the naive double loop.
+    let pts: Vec<[f64; 2]> = random_points(4096, 77);
+    let g = Grid::<2>::new(319).unwrap();
+    let mut dft = Dft::new_vec(g);
+    dft.add_points(&pts, &mut scratch_points(g, 128)).unwrap();
+    let xs: Vec<Vec<f64>> = pts.iter().map(|p| p.to_vec()).collect();
+    let mut rng = Pcg32::new(5, 5);
+    let mut cells: Vec<[i32; 2]> =
+        vec![[319, 319], [319, -319], [0, 319], [319, 0], [1, 0], [0, 1]];
+    cells.extend((0..300).map(|_| {
+        [
+            (rng.next_u32() % 320) as i32,
+            (rng.next_u32() % 639) as i32 - 319,
+        ]
+    }));
+    let n = pts.len() as f64;
+    let (mut worst_f, mut worst_p): (f64, f64) = (0.0, 0.0);
+    for j in cells {
+        let (re, im) = naive(&j, &xs, |_| 1.0);
+        let f = dft.amplitude(j).unwrap();
+        worst_f = worst_f.max((f.re - re).abs().max((f.im - im).abs()) / n);
+        worst_p = worst_p.max(((f.norm_sqr() - (re * re + im * im)) / (n * n)).abs());
+    }
+    println!(
+        "N = 4096, k = 319: max |F − F_naive|/N = {worst_f:.1e}, max |P − P_naive| = {worst_p:.1e}"
+    );
+    assert!(worst_f <= 1e-12 && worst_p <= 1e-12, "{worst_f} {worst_p}");
+}
