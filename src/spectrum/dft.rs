@@ -2,7 +2,7 @@
 //! chunks of samples. See the [module documentation](super) for the maths.
 
 use super::lane::F64Lane;
-use super::{check_finite, Coordinate, Grid, TILE};
+use super::{check_finite, zero_prefix, Coordinate, Grid, TILE};
 use crate::error::SpectrumError;
 use crate::geom::dd::two_prod;
 use crate::geom::Direction;
@@ -207,16 +207,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
     /// # Errors
     /// [`SpectrumError::Length`] if `buf` is shorter than [`Dft::buffer_len`].
     pub fn new(grid: Grid<D>, mut buf: B) -> Result<Self, SpectrumError> {
-        let need = Self::buffer_len(grid);
-        let got = buf.as_ref().len();
-        if got < need {
-            return Err(SpectrumError::Length {
-                name: "buf",
-                expected: need,
-                got,
-            });
-        }
-        buf.as_mut()[..need].fill(0.0);
+        zero_prefix(buf.as_mut(), Self::buffer_len(grid))?;
         Ok(Dft {
             grid,
             buf,
@@ -450,14 +441,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         segments: &[Segment<D>],
         scratch: &mut [f64],
     ) -> Result<(), SpectrumError> {
-        self.segments_lane::<f64x4>(
-            segments.len(),
-            |i| {
-                let s = &segments[i];
-                (s.centre(), s.dir(), s.length())
-            },
-            scratch,
-        )
+        self.segments_lane::<f64x4>(segments.len(), segment_parts(segments), scratch)
     }
 
     /// Segments of one direction and length centred at the points of a
@@ -491,14 +475,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         segments: &[Segment<D>],
         scratch: &mut [f64],
     ) -> Result<(), SpectrumError> {
-        self.segments_lane::<f64>(
-            segments.len(),
-            |i| {
-                let s = &segments[i];
-                (s.centre(), s.dir(), s.length())
-            },
-            scratch,
-        )
+        self.segments_lane::<f64>(segments.len(), segment_parts(segments), scratch)
     }
 
     fn segments_lane<L: F64Lane>(
@@ -590,6 +567,16 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
             }
             t0 = t1;
         }
+    }
+}
+
+/// Centre, direction and length of segment `i`.
+fn segment_parts<const D: usize>(
+    segments: &[Segment<D>],
+) -> impl Fn(usize) -> ([f64; D], Direction<D>, f64) + '_ {
+    |i| {
+        let s = &segments[i];
+        (s.centre(), s.dir(), s.length())
     }
 }
 

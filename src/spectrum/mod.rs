@@ -300,6 +300,19 @@ fn ring_of(m: u64) -> u64 {
     r
 }
 
+/// Zeroes `buf[..need]`, or reports that `buf` is too short.
+pub(crate) fn zero_prefix(buf: &mut [f64], need: usize) -> Result<(), SpectrumError> {
+    if buf.len() < need {
+        return Err(SpectrumError::Length {
+            name: "buf",
+            expected: need,
+            got: buf.len(),
+        });
+    }
+    buf[..need].fill(0.0);
+    Ok(())
+}
+
 fn check_len(name: &'static str, got: usize, expected: usize) -> Result<(), SpectrumError> {
     if got == expected {
         Ok(())
@@ -370,16 +383,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// [`SpectrumError::Length`] if `buf` is shorter than
     /// [`Periodogram::buffer_len`].
     pub fn new(grid: Grid<D>, mut buf: B) -> Result<Self, SpectrumError> {
-        let need = Self::buffer_len(grid);
-        let got = buf.as_ref().len();
-        if got < need {
-            return Err(SpectrumError::Length {
-                name: "buf",
-                expected: need,
-                got,
-            });
-        }
-        buf.as_mut()[..need].fill(0.0);
+        zero_prefix(buf.as_mut(), Self::buffer_len(grid))?;
         Ok(Periodogram {
             grid,
             buf,
