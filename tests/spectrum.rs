@@ -174,6 +174,11 @@ fn simd_scalar_and_chunking_agree_bit_for_bit() {
         }
     }
     check::<1>(21, 50);
+    // 1D grids of more than 64 frequencies are stored as rows of 64 (k + 1 =
+    // 65, 128 and 301: one extra cell, full rows, a partial last row).
+    check::<1>(64, 23);
+    check::<1>(127, 19);
+    check::<1>(300, 50);
     check::<2>(13, 41);
     check::<3>(5, 29);
 }
@@ -215,10 +220,16 @@ fn segments_match_naive_weighted_sum() {
         }
         worst / n as f64
     }
-    let e = [check::<1>(60, 30), check::<2>(17, 30), check::<3>(5, 20)];
+    // 1D at k = 60 (one storage row) and k = 700 (rows of 64 frequencies).
+    let e = [
+        check::<1>(60, 30),
+        check::<1>(700, 30),
+        check::<2>(17, 30),
+        check::<3>(5, 20),
+    ];
     println!(
-        "segments: max |F − F_naive|/N = {:.2e} {:.2e} {:.2e}",
-        e[0], e[1], e[2]
+        "segments: max |F − F_naive|/N = {:.2e} (1D k = 60), {:.2e} (1D k = 700), {:.2e} (2D), {:.2e} (3D)",
+        e[0], e[1], e[2], e[3]
     );
     for x in e {
         assert!(x < 1e-14, "{x}");

@@ -2,7 +2,7 @@
 //! chunks of samples. See the [module documentation](super) for the maths.
 
 use super::lane::F64Lane;
-use super::{check_finite, zero_prefix, Coordinate, Grid, TILE};
+use super::{check_finite, zero_prefix, Coordinate, Grid, ONE_D_STRIDE, TILE};
 use crate::error::SpectrumError;
 use crate::geom::dd::two_prod;
 use crate::geom::Direction;
@@ -59,9 +59,9 @@ struct PhaseTable {
 impl PhaseTable {
     #[inline]
     fn new(x: f64, k: usize) -> Self {
-        // x mod 1, exactly (x − ⌊x⌋ is representable for every finite x), so
+        // x mod 1 (exact for x ≥ 0, within half an ulp of 1 for x < 0), so
         // j·x cannot overflow for coordinates far outside [0, 1).
-        let x = x - libm::floor(x);
+        let x = frac(x);
         let mut small = [(1.0, 0.0); PHASE_BLOCK];
         for (r, e) in small.iter_mut().enumerate().skip(1).take(k) {
             *e = exact_phase(r, x);
@@ -165,27 +165,24 @@ impl<const D: usize> Dft<D, alloc::vec::Vec<f64>> {
 
 impl<const D: usize, B> Dft<D, B> {
     /// The buffer length this grid needs: `2·rows·stride` (real and imaginary
-    /// parts, rows padded to a multiple of the 8-column tile).
+    /// parts, rows padded to a multiple of the 8-column tile; a 1D grid of
+    /// more than 64 frequencies is stored as `⌈(k+1)/64⌉` rows of 64).
     #[must_use]
     pub fn buffer_len(grid: Grid<D>) -> usize {
-        2 * grid.rows() * grid.stride()
+        2 * grid.storage_len()
     }
 
     /// Scratch values per sample needed by [`Dft::add_points`]: a chunk of `c`
     /// points needs `c ×` this many `f64`.
     #[must_use]
     pub fn points_scratch_per_sample(grid: Grid<D>) -> usize {
-        let k = grid.half_width();
-        let rows = if D >= 2 { 2 * (k + 1) } else { 0 } + if D == 3 { 2 * (2 * k + 1) } else { 0 };
-        rows + 2 * grid.stride() + 4
+        2 * row_table_len(grid) + 2 * grid.stride() + 4
     }
 
     /// Scratch values per sample needed by the segment methods.
     #[must_use]
     pub fn segments_scratch_per_sample(grid: Grid<D>) -> usize {
-        let k = grid.half_width();
-        let rows = if D >= 2 { 5 * (k + 1) } else { 0 } + if D == 3 { 5 * (2 * k + 1) } else { 0 };
-        rows + 5 * grid.stride() + 8
+        5 * row_table_len(grid) + 5 * grid.stride() + 8
     }
 
     /// The grid.
@@ -232,7 +229,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         let cols = self.grid.cols();
         let (row, col) = (index / cols, index % cols);
         let off = row * self.grid.stride() + col;
-        let half = self.grid.rows() * self.grid.stride();
+        let half = self.grid.storage_len();
         let b = self.buf.as_ref();
         Complex {
             re: b[off],
@@ -282,7 +279,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
     pub(crate) fn for_each_power(&self, mut f: impl FnMut(usize, f64)) {
         let g = self.grid;
         let (cols, stride) = (g.cols(), g.stride());
-        let half = g.rows() * stride;
+        let half = g.storage_len();
         let b = self.buf.as_ref();
         let inv_n = 1.0 / self.count as f64;
         for row in 0..g.rows() {
@@ -356,24 +353,27 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         let p = pts.len();
         let stride = g.stride();
         let w = 2 * k + 1;
-        let (row0, rest) = scratch.split_at_mut(if D >= 2 { 2 * (k + 1) * p } else { 0 });
+        let (row0, rest) = scratch.split_at_mut(2 * row0_len(g) * p);
         let (row1, rest) = rest.split_at_mut(if D == 3 { 2 * w * p } else { 0 });
         let (cols, gbuf) = rest.split_at_mut(2 * stride * p);
         let (r0re, r0im) = row0.split_at_mut(row0.len() / 2);
         let (r1re, r1im) = row1.split_at_mut(row1.len() / 2);
-        let col_lo = if D == 1 { 0 } else { -(k as i64) };
+        let (col_lo, kc, ncols) = col_range(g);
         let ntiles = stride / TILE;
         cols.fill(0.0);
         for (slot, x) in pts.iter().enumerate() {
-            if D >= 2 {
+            if D == 1 {
+                // Rows of the 1D storage: e^{−2πi·(64a)·x} = e^{−2πi·a·(64x mod 64)}.
+                let xr = (ONE_D_STRIDE as f64) * frac(x[0].to_f64());
+                fill_row_table(r0re, r0im, p, g.storage_rows() - 1, 0, slot, xr);
+            } else {
                 fill_row_table(r0re, r0im, p, k, 0, slot, x[0].to_f64());
             }
             if D == 3 {
                 fill_row_table(r1re, r1im, p, k, -(k as i64), slot, x[1].to_f64());
             }
             let xc = x[D - 1].to_f64();
-            let ncols = g.cols() as i64;
-            phases(xc, k, |j, c, s| {
+            phases(xc, kc, |j, c, s| {
                 let mut put = |col: i64, s: f64| {
                     if (0..ncols).contains(&col) {
                         let (t, lane) = (col as usize / TILE, col as usize % TILE);
@@ -388,10 +388,10 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
                 }
             });
         }
-        let half = g.rows() * stride;
+        let half = g.storage_len();
         let (f_re, f_im) = self.buf.as_mut()[..2 * half].split_at_mut(half);
         let gbuf = &mut gbuf[..4 * p];
-        let rows = g.rows();
+        let rows = g.storage_rows();
         let mut t0 = 0;
         while t0 < ntiles {
             let t1 = (t0 + BLOCK_TILES).min(ntiles);
@@ -516,22 +516,27 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         let k = g.half_width();
         let stride = g.stride();
         let w = 2 * k + 1;
-        let (row0, rest) = scratch.split_at_mut(if D >= 2 { 5 * (k + 1) * p } else { 0 });
+        let (row0, rest) = scratch.split_at_mut(5 * row0_len(g) * p);
         let (row1, rest) = rest.split_at_mut(if D == 3 { 5 * w * p } else { 0 });
         let (cols, gbuf) = rest.split_at_mut(5 * stride * p);
-        let col_lo = if D == 1 { 0 } else { -(k as i64) };
+        let (col_lo, kc, ncols) = col_range(g);
         let ntiles = stride / TILE;
         cols.fill(0.0);
         for slot in 0..p {
             let (c, dir, len) = seg(first + slot);
             let y: [f64; D] = core::array::from_fn(|a| 0.5 * len * dir.get()[a]);
-            if D >= 2 {
+            if D == 1 {
+                // Row a stands for j = 64a: the factors at 64·(c mod 1), 64·y
+                // (exact scalings by a power of two).
+                let s = ONE_D_STRIDE as f64;
+                let rows = g.storage_rows() - 1;
+                fill_seg_rows(row0, p, rows, 0, slot, s * frac(c[0]), s * y[0]);
+            } else {
                 fill_seg_rows(row0, p, k, 0, slot, c[0], y[0]);
             }
             if D == 3 {
                 fill_seg_rows(row1, p, k, -(k as i64), slot, c[1], y[1]);
             }
-            let ncols = g.cols() as i64;
             let mut put = |col: i64, v: [f64; 5]| {
                 if (0..ncols).contains(&col) {
                     let (t, lane) = (col as usize / TILE, col as usize % TILE);
@@ -541,17 +546,17 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
                     }
                 }
             };
-            seg_axis(c[D - 1], y[D - 1], k, |j, v, vn| {
+            seg_axis(c[D - 1], y[D - 1], kc, |j, v, vn| {
                 put(j as i64 - col_lo, v);
                 if j > 0 {
                     put(-(j as i64) - col_lo, vn);
                 }
             });
         }
-        let half = g.rows() * stride;
+        let half = g.storage_len();
         let (f_re, f_im) = self.buf.as_mut()[..2 * half].split_at_mut(half);
         let gbuf = &mut gbuf[..8 * p];
-        let rows = g.rows();
+        let rows = g.storage_rows();
         let mut t0 = 0;
         while t0 < ntiles {
             let t1 = (t0 + BLOCK_TILES).min(ntiles);
@@ -568,6 +573,41 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
             t0 = t1;
         }
     }
+}
+
+/// Row-table entries per sample and row axis 0: `k + 1`, or the storage rows
+/// in 1D.
+fn row0_len<const D: usize>(g: Grid<D>) -> usize {
+    if D == 1 {
+        g.storage_rows()
+    } else {
+        g.half_width() + 1
+    }
+}
+
+/// Row-table entries per sample over all row axes.
+fn row_table_len<const D: usize>(g: Grid<D>) -> usize {
+    let w = 2 * g.half_width() + 1;
+    row0_len(g) + if D == 3 { w } else { 0 }
+}
+
+/// The column axis: `(lowest frequency, largest |j| tabulated, columns)`:
+/// `(−k, k, 2k+1)`; in 1D `(0, min(k, stride − 1), min(k + 1, stride))`.
+fn col_range<const D: usize>(g: Grid<D>) -> (i64, usize, i64) {
+    let k = g.half_width();
+    if D == 1 {
+        let s = g.stride();
+        (0, k.min(s - 1), (k + 1).min(s) as i64)
+    } else {
+        (-(k as i64), k, g.cols() as i64)
+    }
+}
+
+/// `x mod 1` as `x − ⌊x⌋`: exact for `x ≥ 0`; for `x < 0` within half an ulp
+/// of 1 (and possibly equal to 1, which is the same phase).
+#[inline]
+fn frac(x: f64) -> f64 {
+    x - libm::floor(x)
 }
 
 /// Centre, direction and length of segment `i`.
@@ -614,7 +654,8 @@ fn fill_seg_rows(t: &mut [f64], p: usize, k: usize, lo: i64, slot: usize, c: f64
     });
 }
 
-/// `g_k(row)`: the product of the row-axis phasors of point `i` (1 in 1D).
+/// `g_k(row)`: the product of the row-axis phasors of point `i` (in 1D the
+/// phasor of `j = 64·row`).
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 fn row_coefficient<const D: usize>(
@@ -628,8 +669,7 @@ fn row_coefficient<const D: usize>(
     r1im: &[f64],
 ) -> (f64, f64) {
     match D {
-        1 => (1.0, 0.0),
-        2 => (r0re[row * p + i], r0im[row * p + i]),
+        1 | 2 => (r0re[row * p + i], r0im[row * p + i]),
         _ => {
             let w = 2 * k + 1;
             let (j0, j1) = (row / w, row % w);
@@ -641,7 +681,7 @@ fn row_coefficient<const D: usize>(
 }
 
 /// Row factors of segment `i`: `[u_re, u_im, v_re, v_im, X]` (products of the
-/// row axes; `[1, 0, 1, 0, 0]` in 1D).
+/// row axes; in 1D the factors of `j = 64·row`).
 #[inline(always)]
 fn seg_row_coefficient<const D: usize>(
     row: usize,
@@ -656,8 +696,7 @@ fn seg_row_coefficient<const D: usize>(
         core::array::from_fn::<f64, 5, _>(|q| t[(q * len + j) * p + i])
     };
     match D {
-        1 => [1.0, 0.0, 1.0, 0.0, 0.0],
-        2 => at(row0, row),
+        1 | 2 => at(row0, row),
         _ => {
             let w = 2 * k + 1;
             let a = at(row0, row / w);

@@ -46,8 +46,9 @@
 //! high frequencies stay accurate), and the accumulation is a complex
 //! matrix product `F[row, col] += Σ_k g_k(row)·c_k(col)` (rows: all axes but
 //! the last; columns: the last axis), blocked for cache and registers and
-//! vectorised over columns with `f64x4` fused multiply-adds. Cost: about
-//! `N·|grid|` complex multiply-adds.
+//! vectorised over columns with `f64x4` fused multiply-adds. A long 1D grid
+//! is split the same way, `j = 64a + b` (row phasor `e^{−2πi·a·64x}`, column
+//! phasor `e^{−2πi·b·x}`). Cost: about `N·|grid|` complex multiply-adds.
 
 mod dft;
 mod lane;
@@ -59,6 +60,9 @@ use crate::geom::dd::two_sum;
 
 /// Columns per register tile; rows are padded to a multiple of it.
 pub(crate) const TILE: usize = 8;
+/// Storage row length of long 1D grids (a power of two, so `ONE_D_STRIDE·x`
+/// is exact; 8 tiles, one column block of the kernel).
+pub(crate) const ONE_D_STRIDE: usize = 64;
 
 /// Largest grid half-width `k`.
 pub const MAX_HALF_WIDTH: usize = 1 << 20;
@@ -189,9 +193,32 @@ impl<const D: usize> Grid<D> {
         false
     }
 
-    /// Row length of the internal (padded) amplitude storage.
+    /// Row length of the internal (padded) amplitude storage. A 1D grid with
+    /// more than [`ONE_D_STRIDE`] frequencies is stored as rows of
+    /// `ONE_D_STRIDE` columns, frequency `j = a·ONE_D_STRIDE + b` at row `a`,
+    /// column `b` (so the storage offset is still `j`), which turns the 1D
+    /// sum into the same blocked matrix product as in 2D.
     pub(crate) fn stride(&self) -> usize {
-        self.cols().div_ceil(TILE) * TILE
+        if D == 1 && self.k + 1 > ONE_D_STRIDE {
+            ONE_D_STRIDE
+        } else {
+            self.cols().div_ceil(TILE) * TILE
+        }
+    }
+
+    /// Rows of the internal amplitude storage: [`Grid::rows`], or
+    /// `⌈(k+1)/stride⌉` in 1D.
+    pub(crate) fn storage_rows(&self) -> usize {
+        if D == 1 {
+            (self.k + 1).div_ceil(self.stride())
+        } else {
+            self.rows()
+        }
+    }
+
+    /// Values of one (real or imaginary) half of the internal storage.
+    pub(crate) fn storage_len(&self) -> usize {
+        self.storage_rows() * self.stride()
     }
 
     /// The frequency of stored cell `index`.
