@@ -569,9 +569,69 @@ fn fine_size_for(k: usize, w: usize, sigma: Upsampling) -> usize {
     )
 }
 
-fn check_tol(tol: f64) -> Result<f64, String> {
+/// What a [`Plan`] rejects; every message names the parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub enum NufftError {
+    /// `tol` is NaN, zero or negative.
+    Tolerance(f64),
+    /// The dimension `D` is not 1, 2 or 3.
+    Dimension(usize),
+    /// More than `2^32 − 1` points.
+    TooManyPoints(usize),
+    /// A buffer (`re`/`im` or `weights`) has the wrong length.
+    Length {
+        /// The parameter.
+        name: &'static str,
+        /// The length it must have.
+        expected: usize,
+        /// The length it has.
+        got: usize,
+    },
+    /// A coordinate or weight is NaN or infinite.
+    NonFinite {
+        /// The parameter (`points` or `weights`).
+        name: &'static str,
+        /// Index of the point or weight.
+        index: usize,
+        /// The coordinate axis (points only).
+        axis: Option<usize>,
+        /// The offending value.
+        value: f64,
+    },
+}
+
+impl core::fmt::Display for NufftError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            NufftError::Tolerance(t) => write!(f, "tol must be a positive number, got {t}"),
+            NufftError::Dimension(d) => write!(f, "dimension D must be 1, 2 or 3, got {d}"),
+            NufftError::TooManyPoints(n) => write!(f, "points: at most 2^32 − 1 points, got {n}"),
+            NufftError::Length {
+                name,
+                expected,
+                got,
+            } => write!(f, "{name} must have length {expected}, got {got}"),
+            NufftError::NonFinite {
+                name,
+                index,
+                axis,
+                value,
+            } => {
+                write!(f, "{name}[{index}]")?;
+                if let Some(a) = axis {
+                    write!(f, "[{a}]")?;
+                }
+                write!(f, " = {value} is not finite")
+            }
+        }
+    }
+}
+
+impl std::error::Error for NufftError {}
+
+fn check_tol(tol: f64) -> Result<f64, NufftError> {
     if tol.is_nan() || tol <= 0.0 {
-        return Err(format!("tol must be a positive number, got {tol}"));
+        return Err(NufftError::Tolerance(tol));
     }
     Ok(tol.clamp(MIN_TOL, MAX_TOL))
 }
@@ -582,14 +642,14 @@ impl<const D: usize> Plan<D> {
     /// [`Upsampling::auto`]. Errors if `tol` is NaN or not positive, or if
     /// `D ∉ {1,2,3}`. Method: Barnett, Magland & af Klinteberg, SIAM J. Sci.
     /// Comput. 2019.
-    pub fn new(k: usize, tol: f64) -> Result<Self, String> {
+    pub fn new(k: usize, tol: f64) -> Result<Self, NufftError> {
         let t = check_tol(tol)?;
         Self::with_upsampling(k, tol, Upsampling::auto(D, k, t, None))
     }
 
     /// As [`Plan::new`], but σ is chosen knowing the number of points the
     /// plan will mostly be used with ([`Upsampling::auto`]'s cost model).
-    pub fn new_for_points(k: usize, tol: f64, n_points: usize) -> Result<Self, String> {
+    pub fn new_for_points(k: usize, tol: f64, n_points: usize) -> Result<Self, NufftError> {
         let t = check_tol(tol)?;
         Self::with_upsampling(k, tol, Upsampling::auto(D, k, t, Some(n_points)))
     }
@@ -598,9 +658,9 @@ impl<const D: usize> Plan<D> {
     /// `n = ` smallest even `2^a 3^b 5^c ≥ max(σ(2K+1), 2w, 16)` per axis,
     /// kernel width and β from [`Upsampling::kernel_params`] (Barnett et al.,
     /// SIAM J. Sci. Comput. 2019, §4).
-    pub fn with_upsampling(k: usize, tol: f64, sigma: Upsampling) -> Result<Self, String> {
+    pub fn with_upsampling(k: usize, tol: f64, sigma: Upsampling) -> Result<Self, NufftError> {
         if !(1..=3).contains(&D) {
-            return Err(format!("dimension D must be 1, 2 or 3, got {D}"));
+            return Err(NufftError::Dimension(D));
         }
         let tol = check_tol(tol)?;
         let (w, beta) = sigma.kernel_params(tol);
@@ -728,7 +788,7 @@ impl<const D: usize> Plan<D> {
         points: &[[f64; D]],
         re: &mut [f64],
         im: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), NufftError> {
         self.run(points, None, re, im)
     }
 
@@ -741,16 +801,21 @@ impl<const D: usize> Plan<D> {
         weights: &[f64],
         re: &mut [f64],
         im: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), NufftError> {
         if weights.len() != points.len() {
-            return Err(format!(
-                "weights has {} entries but points has {}",
-                weights.len(),
-                points.len()
-            ));
+            return Err(NufftError::Length {
+                name: "weights",
+                expected: points.len(),
+                got: weights.len(),
+            });
         }
         if let Some(i) = weights.iter().position(|c| !c.is_finite()) {
-            return Err(format!("weights[{i}] is not finite"));
+            return Err(NufftError::NonFinite {
+                name: "weights",
+                index: i,
+                axis: None,
+                value: weights[i],
+            });
         }
         self.run(points, Some(weights), re, im)
     }
@@ -761,17 +826,19 @@ impl<const D: usize> Plan<D> {
         weights: Option<&[f64]>,
         re: &mut [f64],
         im: &mut [f64],
-    ) -> Result<(), String> {
+    ) -> Result<(), NufftError> {
         let len = self.half_len();
         if points.len() > u32::MAX as usize {
-            return Err(format!("at most 2^32 − 1 points, got {}", points.len()));
+            return Err(NufftError::TooManyPoints(points.len()));
         }
-        if re.len() != len || im.len() != len {
-            return Err(format!(
-                "re and im must have half_len() = {len} entries, got {} and {}",
-                re.len(),
-                im.len()
-            ));
+        for (name, got) in [("re", re.len()), ("im", im.len())] {
+            if got != len {
+                return Err(NufftError::Length {
+                    name,
+                    expected: len,
+                    got,
+                });
+            }
         }
         let t0 = std::time::Instant::now();
         // The grid is all zero here: zeroed at plan time, and every row is
@@ -787,7 +854,12 @@ impl<const D: usize> Plan<D> {
                 let mut q = *p;
                 for (d, x) in q.iter_mut().enumerate() {
                     if !x.is_finite() {
-                        return Err(format!("points[{i}][{d}] = {x} is not finite"));
+                        return Err(NufftError::NonFinite {
+                            name: "points",
+                            index: i,
+                            axis: Some(d),
+                            value: *x,
+                        });
                     }
                     let y = *x - x.floor();
                     *x = if y >= 1.0 { 0.0 } else { y };
@@ -1175,7 +1247,8 @@ mod tests {
     fn errors_reported() {
         for bad in [f64::NAN, 0.0, -1e-6] {
             let e = Plan::<2>::new(4, bad).err().unwrap();
-            assert!(e.contains("tol"), "{e}");
+            assert!(matches!(e, NufftError::Tolerance(_)), "{e}");
+            assert!(e.to_string().starts_with("tol "), "{e}");
         }
         // Clamping, not an error.
         assert_eq!(Plan::<1>::new(4, 1e-20).unwrap().tolerance(), MIN_TOL);
@@ -1187,19 +1260,19 @@ mod tests {
         let e = plan
             .transform(&[[0.5, 0.5], [f64::NAN, 0.1]], &mut re, &mut im)
             .unwrap_err();
-        assert!(e.contains("points[1][0]"), "{e}");
+        assert_eq!(e.to_string(), "points[1][0] = NaN is not finite");
         let e = plan
             .transform(&[[f64::INFINITY, 0.1]], &mut re, &mut im)
             .unwrap_err();
-        assert!(e.contains("points[0][0]"), "{e}");
+        assert_eq!(e.to_string(), "points[0][0] = inf is not finite");
         let e = plan
             .transform_weighted(&[[0.5, 0.5]], &[1.0, 2.0], &mut re, &mut im)
             .unwrap_err();
-        assert!(e.contains("weights"), "{e}");
+        assert_eq!(e.to_string(), "weights must have length 1, got 2");
         let e = plan
             .transform(&[[0.5, 0.5]], &mut re[..3], &mut im)
             .unwrap_err();
-        assert!(e.contains("half_len"), "{e}");
+        assert!(e.to_string().starts_with("re must have length"), "{e}");
     }
 
     #[test]
