@@ -363,7 +363,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         cols.fill(0.0);
         for (slot, x) in pts.iter().enumerate() {
             if D == 1 {
-                // Rows of the 1D storage: e^{−2πi·(64a)·x} = e^{−2πi·a·(64x mod 64)}.
+                // Rows of the 1D storage: e^{−2πi·(64a)·x} = e^{−2πi·a·64·(x mod 1)}.
                 let xr = (ONE_D_STRIDE as f64) * frac(x[0].to_f64());
                 fill_row_table(r0re, r0im, p, g.storage_rows() - 1, 0, slot, xr);
             } else {
