@@ -104,8 +104,8 @@ enum Command {
     /// each file is one realisation) it computes the Fourier amplitudes F(nu)
     /// of the samples at every integer frequency of the grid [-k, k]^D, exactly
     /// (--method direct, the default) or by a type-1 non-uniform FFT to relative
-    /// accuracy --tol (--method nufft, points and lines; 10-20x faster on large
-    /// grids), and accumulates N*P(nu) = |F(nu)|^2/N, which is 1 for
+    /// accuracy --tol (--method nufft, points and lines; about 20x faster for
+    /// N = 4096 on the 639x639 grid), and accumulates N*P(nu) = |F(nu)|^2/N, which is 1 for
     /// white noise. It writes the mean over the realisations as an image, its
     /// radial average over rings of unit width with the standard error of each
     /// ring mean across the realisations, and prints a summary.
