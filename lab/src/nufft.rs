@@ -65,6 +65,7 @@
 
 use std::sync::Arc;
 
+use linesample::error::SpectrumError;
 use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::{num_complex::Complex, Fft, FftPlanner};
 use wide::f64x4;
@@ -569,61 +570,44 @@ fn fine_size_for(k: usize, w: usize, sigma: Upsampling) -> usize {
     )
 }
 
-/// What a [`Plan`] rejects; every message names the parameter.
+/// What a [`Plan`] rejects; every message names the parameter. The errors
+/// it shares with the direct path (dimension, buffer lengths, non-finite
+/// weights) are the kernel's [`SpectrumError`].
 #[derive(Clone, Debug, PartialEq)]
 pub enum NufftError {
     /// `tol` is NaN, zero or negative.
     Tolerance(f64),
-    /// The dimension `D` is not 1, 2 or 3.
-    Dimension(usize),
     /// More than `2^32 − 1` points.
     TooManyPoints(usize),
-    /// A buffer (`re`/`im` or `weights`) has the wrong length.
-    Length {
-        /// The parameter.
-        name: &'static str,
-        /// The length it must have.
-        expected: usize,
-        /// The length it has.
-        got: usize,
-    },
-    /// A coordinate or weight is NaN or infinite.
-    NonFinite {
-        /// The parameter (`points` or `weights`).
-        name: &'static str,
-        /// Index of the point or weight.
+    /// Coordinate `axis` of point `index` is NaN or infinite (`value`).
+    NonFinitePoint {
+        /// Index of the point.
         index: usize,
-        /// The coordinate axis (points only).
-        axis: Option<usize>,
+        /// The coordinate axis.
+        axis: usize,
         /// The offending value.
         value: f64,
     },
+    /// An error the direct path reports too.
+    Spectrum(SpectrumError),
 }
 
 impl core::fmt::Display for NufftError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
             NufftError::Tolerance(t) => write!(f, "tol must be a positive number, got {t}"),
-            NufftError::Dimension(d) => write!(f, "dimension D must be 1, 2 or 3, got {d}"),
             NufftError::TooManyPoints(n) => write!(f, "points: at most 2^32 − 1 points, got {n}"),
-            NufftError::Length {
-                name,
-                expected,
-                got,
-            } => write!(f, "{name} must have length {expected}, got {got}"),
-            NufftError::NonFinite {
-                name,
-                index,
-                axis,
-                value,
-            } => {
-                write!(f, "{name}[{index}]")?;
-                if let Some(a) = axis {
-                    write!(f, "[{a}]")?;
-                }
-                write!(f, " = {value} is not finite")
+            NufftError::NonFinitePoint { index, axis, value } => {
+                write!(f, "points[{index}][{axis}] = {value} is not finite")
             }
+            NufftError::Spectrum(e) => e.fmt(f),
         }
+    }
+}
+
+impl From<SpectrumError> for NufftError {
+    fn from(e: SpectrumError) -> Self {
+        NufftError::Spectrum(e)
     }
 }
 
@@ -660,7 +644,7 @@ impl<const D: usize> Plan<D> {
     /// SIAM J. Sci. Comput. 2019, §4).
     pub fn with_upsampling(k: usize, tol: f64, sigma: Upsampling) -> Result<Self, NufftError> {
         if !(1..=3).contains(&D) {
-            return Err(NufftError::Dimension(D));
+            return Err(SpectrumError::Dimension { dim: D }.into());
         }
         let tol = check_tol(tol)?;
         let (w, beta) = sigma.kernel_params(tol);
@@ -803,19 +787,19 @@ impl<const D: usize> Plan<D> {
         im: &mut [f64],
     ) -> Result<(), NufftError> {
         if weights.len() != points.len() {
-            return Err(NufftError::Length {
+            return Err(SpectrumError::Length {
                 name: "weights",
                 expected: points.len(),
                 got: weights.len(),
-            });
+            }
+            .into());
         }
         if let Some(i) = weights.iter().position(|c| !c.is_finite()) {
-            return Err(NufftError::NonFinite {
+            return Err(SpectrumError::NonFinite {
                 name: "weights",
                 index: i,
-                axis: None,
-                value: weights[i],
-            });
+            }
+            .into());
         }
         self.run(points, Some(weights), re, im)
     }
@@ -833,11 +817,12 @@ impl<const D: usize> Plan<D> {
         }
         for (name, got) in [("re", re.len()), ("im", im.len())] {
             if got != len {
-                return Err(NufftError::Length {
+                return Err(SpectrumError::Length {
                     name,
                     expected: len,
                     got,
-                });
+                }
+                .into());
             }
         }
         let t0 = std::time::Instant::now();
@@ -854,10 +839,9 @@ impl<const D: usize> Plan<D> {
                 let mut q = *p;
                 for (d, x) in q.iter_mut().enumerate() {
                     if !x.is_finite() {
-                        return Err(NufftError::NonFinite {
-                            name: "points",
+                        return Err(NufftError::NonFinitePoint {
                             index: i,
-                            axis: Some(d),
+                            axis: d,
                             value: *x,
                         });
                     }
@@ -1268,11 +1252,11 @@ mod tests {
         let e = plan
             .transform_weighted(&[[0.5, 0.5]], &[1.0, 2.0], &mut re, &mut im)
             .unwrap_err();
-        assert_eq!(e.to_string(), "weights must have length 1, got 2");
+        assert_eq!(e.to_string(), "weights: length 2, expected 1");
         let e = plan
             .transform(&[[0.5, 0.5]], &mut re[..3], &mut im)
             .unwrap_err();
-        assert!(e.to_string().starts_with("re must have length"), "{e}");
+        assert!(e.to_string().starts_with("re: length 3, expected "), "{e}");
     }
 
     #[test]
