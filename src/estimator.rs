@@ -31,8 +31,9 @@
 use crate::error::{EstimateError, ParamError};
 #[cfg(test)]
 use crate::geom::dot;
-use crate::geom::{frac, Direction};
+use crate::geom::Direction;
 use crate::integrand::{check_dim, Integrand};
+use crate::num::frac;
 use crate::pattern::{Pattern, Shifted};
 use crate::primitive::{check_length, Line, Segment};
 use crate::rng::{mix64, Seed};
@@ -457,7 +458,7 @@ fn line_summand<const D: usize>(f: &dyn Integrand<D>, dir: &Direction<D>, x: &[f
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrand::Complex;
+    use crate::num::Complex;
     use crate::primitive::Rays32;
 
     /// `F = 1` on the unit box: line integrals are chord lengths of the box.

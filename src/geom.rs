@@ -1,6 +1,6 @@
 //! Geometry shared by the integrands and estimators: validated directions,
-//! exact (double-double) arithmetic helpers, clipping a line to the unit box and
-//! splitting a wrapped segment into pieces, one per unit cell.
+//! clipping a line to the unit box and splitting a wrapped segment into
+//! pieces, one per unit cell. (Arithmetic primitives live in [`crate::num`].)
 //!
 //! Conventions (see `ARCHITECTURE.md`): a segment or line is the set
 //! `p + t·ω` for `t` in a parameter interval, where `ω` is the stored
@@ -149,117 +149,6 @@ pub fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
     s
 }
 
-/// Double-double helpers (Dekker 1971; Knuth TAOCP vol. 2 §4.2.2): error-free
-/// transformations used where a closed form would otherwise cancel.
-pub mod dd {
-    /// `(s, e)` with `s = fl(a + b)` and `s + e = a + b` exactly (Knuth's TwoSum).
-    #[inline(always)]
-    #[must_use]
-    pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
-        let s = a + b;
-        let bb = s - a;
-        let e = (a - (s - bb)) + (b - bb);
-        (s, e)
-    }
-
-    /// `(p, e)` with `p = fl(a·b)` and `p + e = a·b` exactly (FMA-based TwoProd;
-    /// `libm::fma` is correctly rounded, and uses the hardware instruction where
-    /// the target has one: `vfmadd` on x86-64 with FMA). A Veltkamp-split
-    /// Dekker product was measured 15–20 % slower on the chord closed form.
-    #[inline(always)]
-    #[must_use]
-    pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
-        let p = a * b;
-        let e = libm::fma(a, b, -p);
-        (p, e)
-    }
-
-    /// A double-double number `hi + lo` with `|lo| ≤ ulp(hi)/2`.
-    #[derive(Clone, Copy, Debug, PartialEq)]
-    pub struct Dd {
-        /// Leading part.
-        pub hi: f64,
-        /// Trailing part.
-        pub lo: f64,
-    }
-
-    // Named methods rather than operator traits: each one documents its
-    // accuracy, and `a.add(b)` reads as the double-double operation it is.
-    #[allow(clippy::should_implement_trait)]
-    impl Dd {
-        /// The exact value `x`.
-        #[inline(always)]
-        #[must_use]
-        pub fn new(x: f64) -> Self {
-            Self { hi: x, lo: 0.0 }
-        }
-
-        /// Exact `a − b` of two doubles.
-        #[inline(always)]
-        #[must_use]
-        pub fn diff(a: f64, b: f64) -> Self {
-            let (hi, lo) = two_sum(a, -b);
-            Self { hi, lo }
-        }
-
-        /// Exact `a · b` of two doubles.
-        #[inline(always)]
-        #[must_use]
-        pub fn prod(a: f64, b: f64) -> Self {
-            let (hi, lo) = two_prod(a, b);
-            Self { hi, lo }
-        }
-
-        /// `self + o` (relative error ≤ 2⁻¹⁰⁴-ish, Li et al. "sloppy" add is not
-        /// used: this is the accurate version).
-        #[inline(always)]
-        #[must_use]
-        pub fn add(self, o: Self) -> Self {
-            let (s, e) = two_sum(self.hi, o.hi);
-            let (t, f) = two_sum(self.lo, o.lo);
-            let e = e + t;
-            let (s, e) = two_sum(s, e);
-            let e = e + f;
-            let (hi, lo) = two_sum(s, e);
-            Self { hi, lo }
-        }
-
-        /// `−self`.
-        #[inline(always)]
-        #[must_use]
-        pub fn neg(self) -> Self {
-            Self {
-                hi: -self.hi,
-                lo: -self.lo,
-            }
-        }
-
-        /// `self − o`.
-        #[inline(always)]
-        #[must_use]
-        pub fn sub(self, o: Self) -> Self {
-            self.add(o.neg())
-        }
-
-        /// `self · o`.
-        #[inline(always)]
-        #[must_use]
-        pub fn mul(self, o: Self) -> Self {
-            let (p, e) = two_prod(self.hi, o.hi);
-            let e = e + (self.hi * o.lo + self.lo * o.hi);
-            let (hi, lo) = two_sum(p, e);
-            Self { hi, lo }
-        }
-
-        /// The nearest double.
-        #[inline(always)]
-        #[must_use]
-        pub fn to_f64(self) -> f64 {
-            self.hi + self.lo
-        }
-    }
-}
-
 /// The parameter interval `[t0, t1]` of `p + t·ω` inside the closed box
 /// `[0, 1]^D`, or `None` if the line misses the box (or only touches it in a
 /// single point). Slab method (Kay & Kajiya 1986); an axis with `ω_j = 0` keeps
@@ -359,22 +248,6 @@ pub fn for_each_piece<const D: usize>(
     }
 }
 
-/// `x − ⌊x⌋ ∈ [0, 1)`. Exact for `x ≥ 0` (the fractional part of a
-/// non-negative double is a double); for negative non-integral `x` the
-/// subtraction rounds (error ≤ 2⁻⁵⁴), and a result that would round to `1`
-/// (e.g. `x = −1e−20`) is returned as `0`. Closed forms that need the exact
-/// offset form `x − c` themselves.
-#[inline(always)]
-#[must_use]
-pub fn frac(x: f64) -> f64 {
-    let f = x - libm::floor(x);
-    if f >= 1.0 {
-        0.0
-    } else {
-        f
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -445,14 +318,5 @@ mod tests {
         assert!(clip_to_unit_box(&[2.0, 0.0], &Direction::axis(1).unwrap()).is_none());
         let (a, b) = clip_to_unit_box(&[0.25, 0.5], &Direction::axis(1).unwrap()).unwrap();
         assert_eq!((a, b), (-0.5, 0.5));
-    }
-
-    #[test]
-    fn dd_products_are_exact() {
-        let a = 1.0 + f64::EPSILON;
-        let p = dd::Dd::prod(a, a);
-        assert_eq!(p.hi, 1.0 + 2.0 * f64::EPSILON);
-        assert_eq!(p.lo, f64::EPSILON * f64::EPSILON);
-        assert_eq!(dd::Dd::diff(1.0, 1e-20).lo, -1e-20);
     }
 }

@@ -11,8 +11,8 @@
 //!   line and the torus line coincide.
 
 use crate::error::ParamError;
-use crate::geom::dd::Dd;
 use crate::geom::{Direction, MAX_SEGMENT_LENGTH};
+use crate::num::Dd;
 
 /// A validated segment length: finite and `0 ≤ λ ≤` [`MAX_SEGMENT_LENGTH`].
 /// A subnormal `λ` (`< 2⁻¹⁰²²`, where `λ/2` would round) becomes `0`, so every
@@ -160,7 +160,7 @@ impl<const D: usize> Line<D> {
         let mut k = 0;
         for j in 0..D {
             if j != axis {
-                p[j] = crate::geom::frac(offset[k]);
+                p[j] = crate::num::frac(offset[k]);
                 k += 1;
             }
         }

@@ -8,9 +8,9 @@
 //!   few ulp relative for every `E` (no loss when `E` is large, no premature
 //!   underflow when `m` is large).
 //!
-//! Double-double arithmetic comes from [`crate::geom::dd`].
+//! Double-double arithmetic comes from [`crate::num::dd`].
 
-use crate::geom::dd::{two_prod, two_sum, Dd};
+use crate::num::{two_prod, Dd};
 
 /// `1/√π`.
 pub const FRAC_1_SQRT_PI: f64 = 0.564_189_583_547_756_3;
@@ -152,62 +152,6 @@ pub fn exp_neg_dd(e: Dd, mult: f64) -> f64 {
     libm::scalbn(v, -(n as i32))
 }
 
-/// Double-double quotient `x / y` (two Newton-type correction steps; relative
-/// error about `2⁻¹⁰⁴`).
-#[must_use]
-pub fn dd_div(x: Dd, y: Dd) -> Dd {
-    let q1 = x.hi / y.hi;
-    if !q1.is_finite() {
-        return Dd::new(q1);
-    }
-    let r = x.sub(y.mul(Dd::new(q1)));
-    let q2 = r.hi / y.hi;
-    let r = r.sub(y.mul(Dd::new(q2)));
-    let q3 = r.hi / y.hi;
-    let (s, e) = two_sum(q1, q2);
-    let (hi, lo) = two_sum(s, e + q3);
-    Dd { hi, lo }
-}
-
-/// `x − round(x)` for a double-double `x`, as a double in about `[−1/2, 1/2]`:
-/// the fractional phase, exact up to the final rounding even when `|x|` is
-/// large (the integer part is removed from `hi` exactly before `lo` is added).
-#[must_use]
-pub fn frac_centered(x: Dd) -> f64 {
-    if !x.hi.is_finite() {
-        return f64::NAN;
-    }
-    let r = x.hi - libm::round(x.hi); // exact
-    let s = r + x.lo;
-    s - libm::round(s)
-}
-
-/// `sin(πx)/(πx)` for a double-double `x` (absolute error ≤ 2 ulp of 1 even
-/// for `|x| ~ 10⁷`, since the period is removed from `x` exactly).
-#[must_use]
-pub fn sinc_dd(x: Dd) -> f64 {
-    let xf = x.to_f64();
-    let ax = xf.abs();
-    if ax < 1.0 {
-        if ax < 1e-8 {
-            let px = core::f64::consts::PI * xf;
-            return 1.0 - px * px / 6.0;
-        }
-        let px = core::f64::consts::PI * xf;
-        return libm::sin(px) / px;
-    }
-    if !xf.is_finite() {
-        return 0.0;
-    }
-    // x mod 2 in [−1, 1]: r = x − 2·round(x/2).
-    let half = Dd {
-        hi: 0.5 * x.hi,
-        lo: 0.5 * x.lo,
-    };
-    let r = 2.0 * frac_centered(half);
-    libm::sin(core::f64::consts::PI * r) / (core::f64::consts::PI * xf)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,14 +195,5 @@ mod tests {
         let r = libm::exp(-400.0);
         assert!(((v - r) / r).abs() < 1e-14, "{v} {r}");
         assert_eq!(exp_neg_dd(Dd::new(f64::INFINITY), 1.0), 0.0);
-    }
-
-    #[test]
-    fn phases() {
-        let x = Dd::prod(12345678.0, 0.1);
-        let r = frac_centered(x);
-        assert!((r - (-0.2)).abs() < 1e-9, "{r}");
-        assert!(sinc_dd(Dd::new(3.0)).abs() < 1e-16);
-        assert!((sinc_dd(Dd::new(0.5)) - 2.0 / core::f64::consts::PI).abs() < 1e-16);
     }
 }

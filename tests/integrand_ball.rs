@@ -13,7 +13,7 @@
 mod common;
 
 use common::{integrate, rel_err};
-use linesample::geom::dd::{two_prod, Dd};
+use linesample::num::{two_prod, Dd};
 use linesample::geom::{clip_to_unit_box, Direction};
 use linesample::integrand::{Ball, Complex, Integrand};
 use linesample::primitive::{Line, Rays32, Segment};

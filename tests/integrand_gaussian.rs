@@ -9,7 +9,7 @@
 mod common;
 
 use common::{integrate, rel_err};
-use linesample::geom::dd::Dd;
+use linesample::num::Dd;
 use linesample::geom::Direction;
 use linesample::integrand::{Gaussian, Integrand};
 use linesample::primitive::{Line, Rays32, Segment};

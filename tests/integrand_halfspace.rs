@@ -26,7 +26,7 @@ fn gk_abs(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     }
     sum
 }
-use linesample::geom::dd::Dd;
+use linesample::num::Dd;
 use linesample::geom::Direction;
 use linesample::integrand::{Complex, HalfSpace, Integrand};
 use linesample::primitive::{Line, Rays32, Segment};

@@ -18,11 +18,13 @@
 
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
-use crate::geom::dd::{two_prod, Dd};
-use crate::geom::{clip_to_unit_box, for_each_piece, frac, Direction};
+use crate::geom::{clip_to_unit_box, for_each_piece, Direction};
+use crate::num::frac;
+use crate::num::lane::{load8, store8, F32Lane as Lane, LANES};
+use crate::num::{frac_centered, sinc_dd};
+use crate::num::{two_prod, Dd};
 use crate::primitive::{Line, Rays32, Segment};
-use crate::simd::{load8, store8, Lane, LANES};
-use crate::special::{dd_div, erfcx, exp_neg_dd, frac_centered, gauss_mid, sinc_dd};
+use crate::special::{erfcx, exp_neg_dd, gauss_mid};
 use core::f64::consts::{PI, SQRT_2, TAU};
 use wide::f32x8;
 
@@ -170,7 +172,7 @@ impl<const D: usize> Gaussian<D> {
     /// `x / (2σ²)` in double-double.
     #[inline]
     fn over_two_s2(&self, x: Dd) -> Dd {
-        dd_div(x, self.two_s2)
+        Dd::div(x, self.two_s2)
     }
 
     /// The free-space integral along `q + tω` where `q = p − centre` is given
@@ -193,8 +195,8 @@ impl<const D: usize> Gaussian<D> {
             let x = q[i].mul(Dd::new(w[k])).sub(q[k].mul(Dd::new(w[i])));
             cr2 = cr2.add(x.mul(x));
         }
-        let rho2 = dd_div(cr2, a);
-        let tc = dd_div(b, a).neg();
+        let rho2 = Dd::div(cr2, a);
+        let tc = Dd::div(b, a).neg();
         let sa = libm::sqrt(a.hi);
         let inv = sa / (self.sigma * SQRT_2);
         let mult = self.line_norm / sa;

@@ -51,10 +51,11 @@
 
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
-use crate::geom::dd::{two_sum, Dd};
-use crate::geom::{frac, Direction};
+use crate::geom::Direction;
+use crate::num::frac;
+use crate::num::lane::{load8, store8, F32Lane as Lane, LANES};
+use crate::num::{two_sum, Dd};
 use crate::primitive::Rays32;
-use crate::simd::{load8, store8, Lane, LANES};
 use wide::f32x8;
 
 /// `1[n·x ≥ h] · 1[x ∈ [0, 1)^D]`, periodised as `F(frac(x))`: a straight edge

@@ -35,31 +35,12 @@ pub use gaussian::Gaussian;
 pub use halfspace::HalfSpace;
 
 use crate::error::ParamError;
-use crate::geom::{clip_to_unit_box, for_each_piece, frac, Direction};
+use crate::geom::{clip_to_unit_box, for_each_piece, Direction};
+use crate::num::frac;
 use crate::primitive::{Line, Rays32, Segment};
 
-/// A complex number `re + i·im` (Fourier coefficients).
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Complex {
-    /// Real part.
-    pub re: f64,
-    /// Imaginary part.
-    pub im: f64,
-}
-
-impl Complex {
-    /// `|z|²` (underflows for `|z| < 1e−154`; see [`Complex::abs`]).
-    #[must_use]
-    pub fn norm_sqr(self) -> f64 {
-        self.re * self.re + self.im * self.im
-    }
-
-    /// `|z|`, without intermediate overflow or underflow (`hypot`).
-    #[must_use]
-    pub fn abs(self) -> f64 {
-        libm::hypot(self.re, self.im)
-    }
-}
+/// Fourier coefficients are [`Complex`] numbers (defined in [`crate::num`]).
+pub use crate::num::Complex;
 
 /// An integrand on the unit torus with closed-form integrals along segments and
 /// lines. Object safe; see the [module docs](self) for the conventions.

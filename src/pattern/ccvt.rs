@@ -17,8 +17,9 @@ pub const CCVT_DEFAULT_CAPACITY: usize = 64;
 #[cfg(feature = "alloc")]
 mod imp {
     use crate::error::PatternError;
+    use crate::num::{frac, to_unit_f32, torus_delta};
     use crate::pattern::sealed::{Generate, Sink};
-    use crate::pattern::{check_dims, check_n, odometer_step, unit_f64, ONE_MINUS_EPSILON};
+    use crate::pattern::{check_dims, check_n, odometer_step, unit_f64};
     use crate::rng::{Pcg32, Seed};
     use alloc::vec;
     use alloc::vec::Vec;
@@ -394,41 +395,12 @@ mod imp {
         }
     }
 
-    /// `d` wrapped into `[−1/2, 1/2)`, for `d ∈ (−1, 1)`.
-    #[inline(always)]
-    fn wrap(d: f64) -> f64 {
-        if d >= 0.5 {
-            d - 1.0
-        } else if d < -0.5 {
-            d + 1.0
-        } else {
-            d
-        }
-    }
-
-    /// `v ∈ (−1, 2)` wrapped into `[0, 1)`.
-    #[inline(always)]
-    fn wrap01(v: f64) -> f64 {
-        let w = if v < 0.0 {
-            v + 1.0
-        } else if v >= 1.0 {
-            v - 1.0
-        } else {
-            v
-        };
-        if w >= 1.0 {
-            0.0
-        } else {
-            w
-        }
-    }
-
     /// Squared toroidal distance.
     #[inline(always)]
     fn dist2<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
         let mut s = 0.0;
         for j in 0..D {
-            let d = wrap(a[j] - b[j]);
+            let d = torus_delta(a[j] - b[j]);
             s += d * d;
         }
         s
@@ -820,13 +792,13 @@ mod imp {
                 let mut sum = [0.0f64; D];
                 for x in &self.slab[i * c..(i + 1) * c] {
                     for j in 0..D {
-                        sum[j] += wrap(x[j] - s[j]);
+                        sum[j] += torus_delta(x[j] - s[j]);
                     }
                 }
                 let inv = 1.0 / c as f64;
                 let mut ns = s;
                 for j in 0..D {
-                    ns[j] = wrap01(s[j] + sum[j] * inv);
+                    ns[j] = frac(s[j] + sum[j] * inv);
                 }
                 self.sites[i] = ns;
                 self.measure(i);
@@ -842,11 +814,7 @@ mod imp {
                 points[id as usize] = *p;
                 assignment[id as usize] = (slot / self.c) as u32;
             }
-            let sites = self
-                .sites
-                .iter()
-                .map(|s| s.map(|x| (x as f32).min(ONE_MINUS_EPSILON)))
-                .collect();
+            let sites = self.sites.iter().map(|s| s.map(to_unit_f32)).collect();
             CcvtResult {
                 sites,
                 sites_f64: self.sites,

@@ -55,11 +55,11 @@ pub use random::Random;
 pub use sobol::{Sobol, SOBOL_DIMENSIONS};
 
 use crate::error::PatternError;
+use crate::num::to_unit_f32;
 use crate::rng::Seed;
 use wide::f32x8;
 
-/// The largest `f32` below 1: `1 − 2⁻²⁴`.
-pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+pub use crate::num::torus::ONE_MINUS_EPSILON;
 
 /// Largest dimension a [`Pattern`] supports.
 pub const MAX_DIMS: usize = 3;
@@ -323,8 +323,8 @@ fn soa_len<const D: usize>(out: &[&mut [f32]; D]) -> Result<usize, PatternError>
 /// A pattern with a random toroidal shift (Cranley–Patterson rotation):
 /// `x_j ↦ (x_j + s_j) mod 1`, with `s ∈ [0,1)^D` uniform and drawn from the seed.
 ///
-/// The sum is formed in `f64` and rounded to `f32`, then clamped to
-/// [`ONE_MINUS_EPSILON`], so the result stays in `[0, 1)`.
+/// The sum is formed in `f64`, wrapped and rounded to `f32` by
+/// [`crate::num::to_unit_f32`], so the result stays in `[0, 1)`.
 #[derive(Clone, Debug)]
 pub struct Shifted<P> {
     inner: P,
@@ -346,17 +346,6 @@ impl<P> Shifted<P> {
     }
 }
 
-/// `(x + s) mod 1` in `f64`, rounded to `f32` in `[0, 1)`.
-#[inline(always)]
-#[must_use]
-pub fn toroidal_shift(x: f32, s: f64) -> f32 {
-    let mut y = f64::from(x) + s;
-    if y >= 1.0 {
-        y -= 1.0;
-    }
-    (y as f32).min(ONE_MINUS_EPSILON)
-}
-
 impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
     fn len(&self) -> usize {
         self.inner.len()
@@ -372,7 +361,7 @@ impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
         let s = Self::shift::<D>(seed);
         for p in out.iter_mut() {
             for j in 0..D {
-                p[j] = toroidal_shift(p[j], s[j]);
+                p[j] = to_unit_f32(f64::from(p[j]) + s[j]);
             }
         }
         Ok(())
@@ -388,7 +377,7 @@ impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
         let s = Self::shift::<D>(seed);
         for p in out.iter_mut() {
             for j in 0..D {
-                p[j] = toroidal_shift(p[j], s[j]);
+                p[j] = to_unit_f32(f64::from(p[j]) + s[j]);
             }
         }
         Ok(())
@@ -407,7 +396,7 @@ impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
         }
         for j in 0..D {
             for x in out[j].iter_mut() {
-                *x = toroidal_shift(*x, s[j]);
+                *x = to_unit_f32(f64::from(*x) + s[j]);
             }
         }
         Ok(())
@@ -704,8 +693,8 @@ mod tests {
     fn unit_conversions_stay_below_one() {
         assert_eq!(unit_f32(u32::MAX), ONE_MINUS_EPSILON);
         assert!(unit_f64(u64::MAX) < 1.0);
-        assert!(toroidal_shift(ONE_MINUS_EPSILON, 1.0 - 1e-17) < 1.0);
-        assert!(toroidal_shift(ONE_MINUS_EPSILON, 0.0) < 1.0);
-        assert!(toroidal_shift(0.5, 0.5 - 1e-12) < 1.0);
+        assert!(to_unit_f32(f64::from(ONE_MINUS_EPSILON) + (1.0 - 1e-17)) < 1.0);
+        assert!(to_unit_f32(f64::from(ONE_MINUS_EPSILON)) < 1.0);
+        assert!(to_unit_f32(0.5 + (0.5 - 1e-12)) < 1.0);
     }
 }

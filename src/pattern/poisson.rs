@@ -3,6 +3,7 @@
 use super::{check_dims, odometer_step, unit_f32, ONE_MINUS_EPSILON};
 use crate::error::PatternError;
 use crate::hash::permute;
+use crate::num::{frac, to_unit_f32, torus_dist};
 use crate::rng::{Pcg32, Seed};
 
 /// Seed purpose of Bridson's algorithm (`"POISSON\0"`).
@@ -454,35 +455,6 @@ fn unit_f64_32(rng: &mut Pcg32) -> f64 {
     f64::from(rng.next_u32()) * (1.0 / 4_294_967_296.0)
 }
 
-/// `y mod 1` as an `f32` in `[0, 1)`.
-#[inline(always)]
-fn wrap_f32(y: f64) -> f32 {
-    let mut t = if (0.0..1.0).contains(&y) {
-        y
-    } else if (-1.0..0.0).contains(&y) {
-        y + 1.0
-    } else if (1.0..2.0).contains(&y) {
-        y - 1.0
-    } else {
-        y - libm::floor(y)
-    };
-    if t >= 1.0 {
-        t = 0.0;
-    }
-    (t as f32).min(ONE_MINUS_EPSILON)
-}
-
-/// Toroidal distance along one axis between two coordinates in `[0, 1)`.
-#[inline(always)]
-fn torus_delta(a: f64, b: f64) -> f64 {
-    let d = (a - b).abs();
-    if d > 0.5 {
-        1.0 - d
-    } else {
-        d
-    }
-}
-
 /// The neighbour cells of the common case `reach = 2`, `g ≥ 6`: offsets
 /// `o ∈ {−2 … 2}^D` (stored as `o + 2`) whose cells can hold a point within `r`
 /// (per-axis gap `max(|o_j| − 1, 0)/g`; with `g ≥ 6` the toroidal gap is the same),
@@ -652,7 +624,7 @@ impl<const D: usize> State<'_, D> {
         self.any_near(c, |q| {
             let mut s = 0.0;
             for j in 0..D {
-                let d = torus_delta(xf[j], f64::from(q[j]));
+                let d = torus_dist(xf[j], f64::from(q[j]));
                 s += d * d;
             }
             s < r2
@@ -700,7 +672,7 @@ impl<const D: usize> State<'_, D> {
                 let v: [f64; D] = core::array::from_fn(|_| r * (4.0 * unit_f64_32(rng) - 2.0));
                 let s: f64 = v.iter().map(|x| x * x).sum();
                 if s >= r2 && s < r2x4 {
-                    return core::array::from_fn(|j| wrap_f32(f64::from(p[j]) + v[j]));
+                    return core::array::from_fn(|j| to_unit_f32(f64::from(p[j]) + v[j]));
                 }
             }
         }
@@ -730,7 +702,7 @@ impl<const D: usize> State<'_, D> {
                 off[2] = rho * z;
             }
         }
-        core::array::from_fn(|j| wrap_f32(f64::from(p[j]) + off[j]))
+        core::array::from_fn(|j| to_unit_f32(f64::from(p[j]) + off[j]))
     }
 
     /// Bridson (2007) on the torus; `active` holds indices of active points.
@@ -838,7 +810,7 @@ impl<const D: usize> State<'_, D> {
                 {
                     0.5
                 } else {
-                    torus_delta(qj, lo[j]).max(torus_delta(qj, wrap01(lo[j] + w)))
+                    torus_dist(qj, lo[j]).max(torus_dist(qj, frac(lo[j] + w)))
                 };
                 s += d * d;
                 if s >= r2 {
@@ -874,16 +846,6 @@ impl<const D: usize> State<'_, D> {
             x[j] = v;
         }
         Some(x)
-    }
-}
-
-/// `y mod 1` for `y ∈ [0, 2)`.
-#[inline(always)]
-fn wrap01(y: f64) -> f64 {
-    if y >= 1.0 {
-        y - 1.0
-    } else {
-        y
     }
 }
 

@@ -1,14 +1,12 @@
 //! The direct (exact) Fourier amplitudes of one realisation, accumulated in
 //! chunks of samples. See the [module documentation](super) for the maths.
 
-use super::lane::F64Lane;
 use super::{check_finite, zero_prefix, Coordinate, Grid, ONE_D_STRIDE, TILE};
 use crate::error::SpectrumError;
-use crate::geom::dd::two_prod;
 use crate::geom::Direction;
-use crate::integrand::Complex;
+use crate::num::lane::F64Lane;
+use crate::num::{cis_turns, frac, Complex, Dd};
 use crate::primitive::Segment;
-use crate::special::frac_centered;
 use core::f64::consts::TAU;
 use wide::f64x4;
 
@@ -19,32 +17,12 @@ const BLOCK_TILES: usize = 8;
 /// exactly reduced `e^{−2πi·16q·x}` and an exactly reduced `e^{−2πi·r·x}`.
 const PHASE_BLOCK: usize = 16;
 
-/// `(cos 2πt, sin 2πt)` for `t ∈ [−1/2, 1/2]`, exact at multiples of `1/4`
-/// (the quadrant is removed exactly before `libm::sin`/`cos` see an argument
-/// in `[−π/4, π/4]`); absolute error ≤ 1.5 ulp of 1 elsewhere.
-#[inline]
-pub(crate) fn cos_sin_turns(t: f64) -> (f64, f64) {
-    let u = 4.0 * t; // exact
-    let q = libm::round(u);
-    let w = u - q; // exact, |w| ≤ 1/2
-    let th = w * (TAU / 4.0);
-    let (s, c) = (libm::sin(th), libm::cos(th));
-    match (q as i64).rem_euclid(4) {
-        0 => (c, s),
-        1 => (-s, c),
-        2 => (-c, -s),
-        _ => (s, -c),
-    }
-}
-
-/// `e^{−2πi·j·x}` at one `j`, with `j·x` reduced modulo 1 exactly (TwoProd,
-/// then the integer part is removed from the leading term).
+/// `e^{−2πi·j·x}` at one `j` as `(re, im)`, with `j·x` formed exactly
+/// ([`Dd::prod`]) and reduced modulo 1 exactly ([`cis_turns`]).
 #[inline]
 fn exact_phase(j: usize, x: f64) -> (f64, f64) {
-    let (hi, lo) = two_prod(j as f64, x);
-    let t = frac_centered(crate::geom::dd::Dd { hi, lo });
-    let (c, s) = cos_sin_turns(t);
-    (c, -s)
+    let z = cis_turns(Dd::prod(j as f64, x));
+    (z.re, z.im)
 }
 
 /// Blocked exact phase table of one coordinate: `e^{−2πijx}` is the product of
@@ -601,13 +579,6 @@ fn col_range<const D: usize>(g: Grid<D>) -> (i64, usize, i64) {
     } else {
         (-(k as i64), k, g.cols() as i64)
     }
-}
-
-/// `x mod 1` as `x − ⌊x⌋`: exact for `x ≥ 0`; for `x < 0` within half an ulp
-/// of 1 (and possibly equal to 1, which is the same phase).
-#[inline]
-fn frac(x: f64) -> f64 {
-    x - libm::floor(x)
 }
 
 /// Centre, direction and length of segment `i`.

@@ -51,12 +51,11 @@
 //! phasor `e^{−2πi·b·x}`). Cost: about `N·|grid|` complex multiply-adds.
 
 mod dft;
-mod lane;
 
 pub use dft::Dft;
 
 use crate::error::SpectrumError;
-use crate::geom::dd::two_sum;
+use crate::num::{sinc, two_sum};
 
 /// Columns per register tile; rows are padded to a multiple of it.
 pub(crate) const TILE: usize = 8;
@@ -804,12 +803,6 @@ pub fn line_spectrum<const D: usize, const K: usize, B: AsRef<[f64]> + AsMut<[f6
     offsets.mean(jp)
 }
 
-/// `sinc(t) = sin(πt)/(πt)` (1 at 0), accurate to 2 ulp of 1 for any `|t|`.
-#[must_use]
-pub fn sinc(t: f64) -> f64 {
-    crate::special::sinc_dd(crate::geom::dd::Dd::new(t))
-}
-
 /// Expected `⟨N·P(ν)⟩` of jittered sampling with `n_a` strata per axis at an
 /// integer `ν ≠ 0`: `1 − Π_a sinc²(ν_a/n_a)`.
 ///
@@ -867,17 +860,6 @@ mod tests {
         check::<1>(5);
         check::<2>(4);
         check::<3>(3);
-    }
-
-    #[test]
-    fn cos_sin_turns_exact_at_quarters() {
-        let (c, s) = dft::cos_sin_turns(0.5);
-        assert_eq!((c, s), (-1.0, -0.0));
-        assert_eq!(dft::cos_sin_turns(-0.25), (0.0, -1.0));
-        assert_eq!(dft::cos_sin_turns(0.0), (1.0, 0.0));
-        let (c, s) = dft::cos_sin_turns(0.1);
-        assert!((c - libm::cos(0.2 * core::f64::consts::PI)).abs() < 2e-16);
-        assert!((s - libm::sin(0.2 * core::f64::consts::PI)).abs() < 2e-16);
     }
 
     #[test]

@@ -1,0 +1,318 @@
+//! The one SIMD lane abstraction: every batch kernel in the crate is written
+//! once, generic over [`Lane`], and instantiated for a scalar (the reference
+//! path, always compiled and tested) and for a `wide` vector (the SIMD path):
+//! `f32`/`f32x8` for the `f32` closed forms ([`F32Lane`]), `f64`/`f64x4` for the
+//! periodogram kernels ([`F64Lane`]).
+//!
+//! Both instantiations of a kernel execute the same IEEE operations in the same
+//! order, so they agree **bit for bit** lane by lane, and in every build:
+//!
+//! * `+ − × ÷`, `sqrt` and `floor` are correctly rounded everywhere;
+//! * `min`/`max` follow the x86 `minps`/`maxps` rule (`a < b ? a : b`) in both;
+//! * [`Lane::fma`] is always **fused** (one rounding): `wide`'s `mul_add` where
+//!   the target has FMA, and the correctly rounded `libm::fma`/`fmaf` lane by
+//!   lane otherwise (an unfused `a·b + c` would differ between the SSE2 and the
+//!   AVX2 build). The `f32` closed forms use no `fma` at all.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use wide::{f32x8, f64x4, i32x8};
+
+/// Width of the `f32` SIMD batch of the closed forms.
+pub(crate) const LANES: usize = 8;
+
+/// A lane type: a scalar or a `wide` vector of that scalar.
+pub(crate) trait Lane:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// The element type.
+    type Scalar: Copy;
+    /// Comparison mask.
+    type Mask: Copy;
+    /// Elements per value.
+    const LANES: usize;
+    fn splat(x: Self::Scalar) -> Self;
+    /// The first `LANES` elements of `s`.
+    fn load(s: &[Self::Scalar]) -> Self;
+    /// Writes the lanes to the first `LANES` elements of `s`.
+    fn store(self, s: &mut [Self::Scalar]);
+    fn sqrt(self) -> Self;
+    fn abs(self) -> Self;
+    /// `self < o ? self : o`.
+    fn min(self, o: Self) -> Self;
+    /// `self > o ? self : o`.
+    fn max(self, o: Self) -> Self;
+    fn floor(self) -> Self;
+    fn lt(self, o: Self) -> Self::Mask;
+    fn le(self, o: Self) -> Self::Mask;
+    fn gt(self, o: Self) -> Self::Mask;
+    /// `m ? a : b`.
+    fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// `a·b + c` with one rounding.
+    fn fma(a: Self, b: Self, c: Self) -> Self;
+    /// `self < o ? a : b`, lane by lane.
+    #[inline(always)]
+    fn lt_select(self, o: Self, a: Self, b: Self) -> Self {
+        Self::select(self.lt(o), a, b)
+    }
+}
+
+/// `f32` lanes (`f32`, `f32x8`), with the exponent construction the `f32`
+/// exponentials need.
+pub(crate) trait F32Lane: Lane<Scalar = f32> {
+    /// `2^n` for integral-valued `n ∈ [−126, 127]` (built from the exponent bits).
+    fn pow2i(n: Self) -> Self;
+}
+
+/// `f64` lanes (`f64`, `f64x4`).
+pub(crate) trait F64Lane: Lane<Scalar = f64> {}
+impl<T: Lane<Scalar = f64>> F64Lane for T {}
+
+/// The scalar instantiation of the comparisons and selections (`minps` rule).
+macro_rules! scalar_lane {
+    ($t:ty, $sqrt:path, $abs:path, $floor:path, $fma:path) => {
+        impl Lane for $t {
+            type Scalar = $t;
+            type Mask = bool;
+            const LANES: usize = 1;
+            #[inline(always)]
+            fn splat(x: $t) -> Self {
+                x
+            }
+            #[inline(always)]
+            fn load(s: &[$t]) -> Self {
+                s[0]
+            }
+            #[inline(always)]
+            fn store(self, s: &mut [$t]) {
+                s[0] = self;
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                $sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                $abs(self)
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                if self < o {
+                    self
+                } else {
+                    o
+                }
+            }
+            #[inline(always)]
+            fn max(self, o: Self) -> Self {
+                if self > o {
+                    self
+                } else {
+                    o
+                }
+            }
+            #[inline(always)]
+            fn floor(self) -> Self {
+                $floor(self)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> bool {
+                self < o
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> bool {
+                self <= o
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> bool {
+                self > o
+            }
+            #[inline(always)]
+            fn select(m: bool, a: Self, b: Self) -> Self {
+                if m {
+                    a
+                } else {
+                    b
+                }
+            }
+            #[inline(always)]
+            fn fma(a: Self, b: Self, c: Self) -> Self {
+                $fma(a, b, c)
+            }
+        }
+    };
+}
+
+scalar_lane!(f32, libm::sqrtf, libm::fabsf, libm::floorf, libm::fmaf);
+scalar_lane!(f64, libm::sqrt, libm::fabs, libm::floor, libm::fma);
+
+/// The vector instantiation (`wide`).
+macro_rules! vector_lane {
+    ($v:ty, $t:ty, $n:expr, $fma:path) => {
+        impl Lane for $v {
+            type Scalar = $t;
+            type Mask = $v;
+            const LANES: usize = $n;
+            #[inline(always)]
+            fn splat(x: $t) -> Self {
+                <$v>::splat(x)
+            }
+            #[inline(always)]
+            fn load(s: &[$t]) -> Self {
+                let a: [$t; $n] = core::array::from_fn(|l| s[l]);
+                <$v>::from(a)
+            }
+            #[inline(always)]
+            fn store(self, s: &mut [$t]) {
+                s[..$n].copy_from_slice(&self.to_array());
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$v>::sqrt(self)
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$v>::abs(self)
+            }
+            #[inline(always)]
+            fn min(self, o: Self) -> Self {
+                self.fast_min(o)
+            }
+            #[inline(always)]
+            fn max(self, o: Self) -> Self {
+                self.fast_max(o)
+            }
+            #[inline(always)]
+            fn floor(self) -> Self {
+                <$v>::floor(self)
+            }
+            #[inline(always)]
+            fn lt(self, o: Self) -> $v {
+                self.simd_lt(o)
+            }
+            #[inline(always)]
+            fn le(self, o: Self) -> $v {
+                self.simd_le(o)
+            }
+            #[inline(always)]
+            fn gt(self, o: Self) -> $v {
+                self.simd_gt(o)
+            }
+            #[inline(always)]
+            fn select(m: $v, a: Self, b: Self) -> Self {
+                wide::Select::select(m, a, b)
+            }
+            #[inline(always)]
+            fn fma(a: Self, b: Self, c: Self) -> Self {
+                #[cfg(all(target_feature = "avx", target_feature = "fma"))]
+                {
+                    a.mul_add(b, c)
+                }
+                #[cfg(not(all(target_feature = "avx", target_feature = "fma")))]
+                {
+                    let (a, b, c) = (a.to_array(), b.to_array(), c.to_array());
+                    <$v>::from(core::array::from_fn::<$t, $n, _>(|l| {
+                        $fma(a[l], b[l], c[l])
+                    }))
+                }
+            }
+        }
+    };
+}
+
+vector_lane!(f32x8, f32, 8, libm::fmaf);
+vector_lane!(f64x4, f64, 4, libm::fma);
+
+impl F32Lane for f32 {
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        f32::from_bits((((n as i32) + 127) as u32) << 23)
+    }
+}
+
+impl F32Lane for f32x8 {
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        let e: i32x8 = n.round_int() + i32x8::splat(127);
+        bytemuck::cast(e << 23)
+    }
+}
+
+/// Loads lanes `i..i+8` of a slice.
+#[inline(always)]
+pub(crate) fn load8(s: &[f32], i: usize) -> f32x8 {
+    <f32x8 as Lane>::load(&s[i..i + LANES])
+}
+
+/// Stores a vector into lanes `i..i+8`.
+#[inline(always)]
+pub(crate) fn store8(s: &mut [f32], i: usize, v: f32x8) {
+    v.store(&mut s[i..i + LANES]);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every operation of both vector instantiations against the scalar one,
+    /// lane by lane, bit for bit (signed zeros, tiny and huge values).
+    #[test]
+    fn scalar_and_simd_lanes_agree() {
+        let a = [-3.5f32, -0.0, 0.0, 1.25, 7.0, -1e-30, 3e30, 0.5];
+        let b = [2.0f32, 0.0, -0.0, 1.25, -7.0, 1e-30, 2.0, 0.75];
+        let c = [0.1f32, -1.0, 3.0, 1e-7, 2.5, 1e30, -3e30, 1.0 / 3.0];
+        let (va, vb, vc) = (f32x8::from(a), f32x8::from(b), f32x8::from(c));
+        let mn = Lane::min(va, vb).to_array();
+        let mx = Lane::max(va, vb).to_array();
+        let fl = Lane::floor(va).to_array();
+        let fm = <f32x8 as Lane>::fma(va, vb, vc).to_array();
+        let sq = Lane::sqrt(Lane::abs(va)).to_array();
+        let sel = <f32x8 as Lane>::select(va.lt(vb), va, vb).to_array();
+        for l in 0..8 {
+            assert_eq!(mn[l].to_bits(), Lane::min(a[l], b[l]).to_bits(), "min {l}");
+            assert_eq!(mx[l].to_bits(), Lane::max(a[l], b[l]).to_bits(), "max {l}");
+            assert_eq!(fl[l].to_bits(), Lane::floor(a[l]).to_bits(), "floor {l}");
+            let f = <f32 as Lane>::fma(a[l], b[l], c[l]);
+            assert_eq!(fm[l].to_bits(), f.to_bits(), "fma {l}");
+            assert_eq!(
+                sq[l].to_bits(),
+                libm::sqrtf(a[l].abs()).to_bits(),
+                "sqrt {l}"
+            );
+            let s = <f32 as Lane>::select(a[l] < b[l], a[l], b[l]);
+            assert_eq!(sel[l].to_bits(), s.to_bits(), "select {l}");
+        }
+        let n = [-126.0f32, -1.0, 0.0, 1.0, 5.0, 64.0, 127.0, -30.0];
+        let p = F32Lane::pow2i(f32x8::from(n)).to_array();
+        for l in 0..8 {
+            assert_eq!(p[l], libm::exp2f(n[l]));
+            assert_eq!(p[l].to_bits(), <f32 as F32Lane>::pow2i(n[l]).to_bits());
+        }
+        let x = [1.0 + f64::EPSILON, -0.0, 1e300, -2.5];
+        let y = [1.0 - f64::EPSILON, 0.0, 1e10, 4.0];
+        let z = [-1.0, -0.0, -1e308, 0.1];
+        let (vx, vy, vz) = (
+            <f64x4 as Lane>::load(&x),
+            <f64x4 as Lane>::load(&y),
+            <f64x4 as Lane>::load(&z),
+        );
+        let mut out = [0.0f64; 4];
+        <f64x4 as Lane>::fma(vx, vy, vz).store(&mut out);
+        let sel = vx.lt_select(vy, vx, vz).to_array();
+        for l in 0..4 {
+            // The fused product keeps the −ε² that an unfused one rounds away.
+            assert_eq!(
+                out[l].to_bits(),
+                libm::fma(x[l], y[l], z[l]).to_bits(),
+                "fma {l}"
+            );
+            let s = <f64 as Lane>::lt_select(x[l], y[l], x[l], z[l]);
+            assert_eq!(sel[l].to_bits(), s.to_bits(), "lt_select {l}");
+        }
+        assert_eq!(out[0], -f64::EPSILON * f64::EPSILON);
+    }
+}

@@ -1,0 +1,24 @@
+//! The numeric core: the few primitives every closed form, pattern and
+//! spectrum in the crate is built from, each written once with one contract.
+//!
+//! * [`dd`]: double-double arithmetic (error-free transformations, [`Dd`]).
+//! * [`complex`]: [`Complex`] numbers for Fourier coefficients and amplitudes.
+//! * [`phase`]: exact phase reduction and `e^{−2πiθ}`, [`sinc`].
+//! * [`torus`]: wrapping onto the unit torus `[0, 1)` and toroidal differences.
+//! * `lane` (crate-private): the one SIMD lane abstraction behind every `f32`
+//!   and `f64` batch kernel (scalar reference path and `wide` vectors).
+//!
+//! The error bounds stated here are tested against exact rational and exact
+//! integer arithmetic (`tests/num.rs`), not against these functions
+//! themselves. The derivations are in `docs/theory.md` (Numerical methods).
+
+pub mod complex;
+pub mod dd;
+pub(crate) mod lane;
+pub mod phase;
+pub mod torus;
+
+pub use complex::Complex;
+pub use dd::{two_prod, two_sum, Dd};
+pub use phase::{cis_turns, cos_sin_turns, frac_centered, sinc, sinc_dd};
+pub use torus::{frac, to_unit_f32, torus_delta, torus_dist};
