@@ -1,7 +1,8 @@
 //! Poisson-disk sampling, points per second: ours (Bridson on the torus, scratch
 //! and output buffers reused) next to `fast_poisson` 1.0 (Bridson, non-periodic,
 //! k-d tree, allocating) at the same radius, 2D and 3D, N ≈ 4096 and 65536
-//! (radii from `anchors.md` §1, tuned so that `fast_poisson` gives about N points);
+//! (radii chosen beforehand, by trial runs, so that `fast_poisson` gives about
+//! N points for seed 7);
 //! plus maximal dart throwing at N ≈ 4096 in 2D.
 //!
 //! The throughput of each benchmark uses the number of points that generator

@@ -1,5 +1,6 @@
 //! Monte Carlo estimators with point, segment and line samples (Singh, Miller &
-//! Jarosz 2017; `paper-notes.md` §2), driven by any [`Pattern`].
+//! Jarosz 2017; derivations in `docs/theory.md`, Estimators), driven by any
+//! [`Pattern`].
 //!
 //! | estimator | summand | `N` counts |
 //! |---|---|---|
@@ -10,12 +11,16 @@
 //! * Homogenisation: with `homogenise = true` every realisation adds a uniform
 //!   random toroidal shift (in `f64`) to the pattern, drawn from the seed, so the
 //!   estimator is unbiased and the variance is that of the stationary process
-//!   the theory describes (Pilleboue et al. 2015).
-//! * Segments: the centres come from a `D`-dimensional pattern. By Fubini the
-//!   segment estimator is unbiased for any centre density (the pdf of the
-//!   **centre** cancels because the segment wraps on the torus).
+//!   the theory describes (Pilleboue et al. 2015; `docs/theory.md`,
+//!   Homogenisation and the toroidal shift).
+//! * Segments: the centres come from a `D`-dimensional pattern and the segments
+//!   wrap on the torus, so the mean along a segment integrates to `∫ f` over
+//!   the centres (Fubini): the estimator is unbiased for uniformly distributed
+//!   centres, and its pdf-weighted form would be unbiased for any centre
+//!   density (`docs/theory.md`, Estimators).
 //! * Lines along an axis are torus lines (offsets in `[0,1)^{D−1}`). Lines in any
-//!   other direction are clipped to the unit box; their offsets are drawn on the
+//!   other direction are clipped to the unit box (`docs/theory.md`, Lines on
+//!   the torus); their offsets are drawn on the
 //!   bounding rectangle `R` of the box's projection onto `ω^⊥` (in the basis
 //!   [`Direction::frame`]) and the estimator multiplies by its area `A = |R|`
 //!   (lines that miss the box contribute 0). For axis directions `A = 1` and both
@@ -23,7 +28,7 @@
 //! * Direction groups ([`Directions::Groups`]): `K` directions, each with its own
 //!   independent realisation of the pattern (`pattern.len()` primitives per
 //!   group, `N = K·pattern.len()`); the estimate is the mean of the group
-//!   estimates, so `Var = (1/K²) Σ_j Var_j` (paper-notes §2.4).
+//!   estimates, so `Var = (1/K²) Σ_j Var_j` (`docs/theory.md`, Estimators).
 //!
 //! Estimators never allocate: the caller passes `scratch` (`f32` words, length
 //! [`Estimator::scratch_len`]) for the pattern points. A seed fixes the estimate.

@@ -3,10 +3,11 @@
 //!
 //! * A [`Segment`] is `{c + t·ω : t ∈ [−λ/2, λ/2]}` on the unit torus: it wraps
 //!   around the period, so a segment longer than 1 passes some cells several
-//!   times (Singh et al. 2017, §2.3 of `paper-notes.md`: wrapping keeps the
-//!   segment estimator unbiased for any centre density).
+//!   times (wrapping is what keeps the segment estimator unbiased: Singh et
+//!   al. 2017; `docs/theory.md`, Estimators).
 //! * A [`Line`] is `{p + t·ω}` restricted to the unit box `[0, 1]^D`
-//!   (`DESIGN.md`: a line in a general direction does not close on the torus).
+//!   (a line in a general direction does not close on the torus;
+//!   `docs/theory.md`, Lines on the torus).
 //!   For an axis direction the chord of the box is one full period, so the box
 //!   line and the torus line coincide.
 

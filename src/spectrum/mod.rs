@@ -16,11 +16,12 @@
 //! * variance of the estimator `I_N = (1/N) Σ_k ⟨f, sample_k⟩` with a random
 //!   toroidal shift (homogenisation):
 //!   `Var(I_N) = Σ_{ν≠0} ⟨P(ν)⟩·|f̂(ν)|² = (1/N) Σ_{ν≠0} ⟨N·P(ν)⟩·|f̂(ν)|²`
-//!   (Pilleboue et al. 2015, torus form; `paper-notes` §3.1), where `f̂` is the
-//!   Fourier coefficient of the integrand
+//!   (Pilleboue et al. 2015, torus form; `docs/theory.md`, Spectral variance),
+//!   where `f̂` is the Fourier coefficient of the integrand
 //!   ([`crate::integrand::Integrand::fourier`]). For segments with a common
 //!   `λ, ω` this is the point spectrum of the centres times the pre-filtered
-//!   integrand spectrum `|f̂|²·sinc²(λν·ω)` (Singh et al. 2017, §3.3).
+//!   integrand spectrum `|f̂|²·sinc²(λν·ω)` (Singh et al. 2017; `docs/theory.md`,
+//!   Segment and line spectra).
 //! * Lines along axis `a` integrate out coordinate `a`: their estimator is
 //!   point sampling of the projection `g(x_⊥) = ∫ f dx_a` by the `(D−1)`-dim
 //!   offsets, whose coefficients are the slice `ĝ(ν_⊥) = f̂(ν_⊥, ν_a = 0)`
@@ -587,7 +588,8 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// estimator with `n` samples whose pattern has this mean periodogram, for
     /// an even integrand power spectrum `p_f(ν) = p_f(−ν)` such as `|f̂(ν)|²`
     /// or the pre-filtered `|f̂(ν)|²·sinc²(λν·ω)` of segments (Pilleboue et al.
-    /// 2015; Singh et al. 2017 §3). See [`Prediction`] for the part of the
+    /// 2015; Singh et al. 2017; `docs/theory.md`, Spectral variance and Segment
+    /// and line spectra). See [`Prediction`] for the part of the
     /// spectrum outside the grid.
     #[must_use]
     pub fn predict_variance(&self, n: u64, mut p_f: impl FnMut([i32; D]) -> f64) -> Prediction {
@@ -638,8 +640,8 @@ impl Prediction {
     }
 }
 
-/// The radial form of the variance (Pilleboue et al. 2015, `paper-notes`
-/// §3.1), `Var = (μ(S^{D−1})/N) ∫ ρ^{D−1} P̆_S(ρ) P̆_f(ρ) dρ`, on the lattice:
+/// The radial form of the variance (Pilleboue et al. 2015; `docs/theory.md`,
+/// Spectral variance), `Var = (μ(S^{D−1})/N) ∫ ρ^{D−1} P̆_S(ρ) P̆_f(ρ) dρ`, on the lattice:
 /// `(1/N) Σ_{r≥1} count_r · P̆_S(r) · P̆_f(r)`, where `P̆_S` are ring means of
 /// `⟨N·P⟩` ([`Periodogram::radial_average`]), `P̆_f` ring means of the
 /// integrand power spectrum ([`Grid::radial_mean_of`]) and `count_r` the
