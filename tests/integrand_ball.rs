@@ -13,9 +13,9 @@
 mod common;
 
 use common::{integrate, rel_err};
-use linesample::num::{two_prod, Dd};
 use linesample::geom::{clip_to_unit_box, Direction};
 use linesample::integrand::{Ball, Complex, Integrand};
+use linesample::num::{two_prod, Dd};
 use linesample::primitive::{Line, Rays32, Segment};
 use linesample::ParamError;
 use proptest::prelude::*;

@@ -9,9 +9,9 @@
 mod common;
 
 use common::{integrate, rel_err};
-use linesample::num::Dd;
 use linesample::geom::Direction;
 use linesample::integrand::{Gaussian, Integrand};
+use linesample::num::Dd;
 use linesample::primitive::{Line, Rays32, Segment};
 use linesample::special::erfcx;
 use linesample::ParamError;

@@ -26,9 +26,9 @@ fn gk_abs(f: &dyn Fn(f64) -> f64, a: f64, b: f64, tol: f64) -> f64 {
     }
     sum
 }
-use linesample::num::Dd;
 use linesample::geom::Direction;
 use linesample::integrand::{Complex, HalfSpace, Integrand};
+use linesample::num::Dd;
 use linesample::primitive::{Line, Rays32, Segment};
 use linesample::ParamError;
 use proptest::prelude::*;

@@ -3,11 +3,11 @@
 //! identity, and the accumulator algebra (chunking, SIMD vs scalar, merge).
 #![allow(clippy::needless_range_loop)]
 
-use linesample::num::{two_prod, two_sum, Dd};
 use linesample::geom::Direction;
+use linesample::num::{frac_centered, sinc_dd};
+use linesample::num::{two_prod, two_sum, Dd};
 use linesample::pattern::{Jittered, Pattern, Random};
 use linesample::primitive::Segment;
-use linesample::num::{frac_centered, sinc_dd};
 use linesample::spectrum::{
     jittered_expected, line_offsets, line_spectrum, Dft, Grid, Periodogram,
 };

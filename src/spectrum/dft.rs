@@ -5,7 +5,7 @@ use super::{check_finite, zero_prefix, Coordinate, Grid, ONE_D_STRIDE, TILE};
 use crate::error::SpectrumError;
 use crate::geom::Direction;
 use crate::num::lane::F64Lane;
-use crate::num::{cis_turns, frac, Complex, Dd};
+use crate::num::{cis_turns, frac_centered, Complex, Dd};
 use crate::primitive::Segment;
 use core::f64::consts::TAU;
 use wide::f64x4;
@@ -25,6 +25,13 @@ fn exact_phase(j: usize, x: f64) -> (f64, f64) {
     (z.re, z.im)
 }
 
+/// `x − round(x) ∈ [−1/2, 1/2]`: the coordinate modulo 1, exactly, for every
+/// finite `x` (the same phases `e^{−2πijx}` for every integer `j`).
+#[inline]
+fn reduce(x: f64) -> f64 {
+    frac_centered(Dd::new(x))
+}
+
 /// Blocked exact phase table of one coordinate: `e^{−2πijx}` is the product of
 /// the exactly reduced `e^{−2πi·16q·x}` and `e^{−2πi·r·x}` (`j = 16q + r`), so
 /// the error does not grow with `j`: absolute error ≤ 4 ulp of 1 for every `j`
@@ -37,9 +44,11 @@ struct PhaseTable {
 impl PhaseTable {
     #[inline]
     fn new(x: f64, k: usize) -> Self {
-        // x mod 1 (exact for x ≥ 0, within half an ulp of 1 for x < 0), so
-        // j·x cannot overflow for coordinates far outside [0, 1).
-        let x = frac(x);
+        // x mod 1 as x − round(x) ∈ [−1/2, 1/2], which is exact for every
+        // finite x (unlike x − ⌊x⌋, which rounds for x ∈ (−1, 0) and would
+        // put an error of j·2⁻⁵⁴ into every phase), so j·x cannot overflow
+        // for coordinates far outside [0, 1) and the phases are those of x.
+        let x = reduce(x);
         let mut small = [(1.0, 0.0); PHASE_BLOCK];
         for (r, e) in small.iter_mut().enumerate().skip(1).take(k) {
             *e = exact_phase(r, x);
@@ -345,7 +354,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         for (slot, x) in pts.iter().enumerate() {
             if D == 1 {
                 // Rows of the 1D storage: e^{−2πi·(64a)·x} = e^{−2πi·a·64·(x mod 1)}.
-                let xr = (ONE_D_STRIDE as f64) * frac(x[0].to_f64());
+                let xr = (ONE_D_STRIDE as f64) * reduce(x[0].to_f64());
                 fill_row_table(r0re, r0im, p, g.storage_rows() - 1, 0, slot, xr);
             } else {
                 fill_row_table(r0re, r0im, p, k, 0, slot, x[0].to_f64());
@@ -511,7 +520,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
                 // (exact scalings by a power of two).
                 let s = ONE_D_STRIDE as f64;
                 let rows = g.storage_rows() - 1;
-                fill_seg_rows(row0, p, rows, 0, slot, s * frac(c[0]), s * y[0]);
+                fill_seg_rows(row0, p, rows, 0, slot, s * reduce(c[0]), s * y[0]);
             } else {
                 fill_seg_rows(row0, p, k, 0, slot, c[0], y[0]);
             }
