@@ -1,5 +1,5 @@
-//! Double-double arithmetic (Dekker 1971; Knuth, TAOCP vol. 2 §4.2.2; Hida, Li &
-//! Bailey 2001): a value is the unevaluated sum `hi + lo` of two doubles with
+//! Double-double arithmetic (Dekker 1971; Knuth, TAOCP vol. 2 §4.2.2; Joldes,
+//! Muller & Popescu, ACM TOMS 44(2), 2017): a value is the unevaluated sum `hi + lo` of two doubles with
 //! `|lo| ≤ ulp(hi)/2`, about 106 bits of significand. Used wherever a closed
 //! form or a phase would otherwise cancel.
 //!
@@ -9,8 +9,8 @@
 //! | operation | bound |
 //! |---|---|
 //! | [`two_sum`], [`two_prod`], [`Dd::diff`], [`Dd::prod`] | exact |
-//! | [`Dd::add`], [`Dd::sub`] | `2u²` (accurate addition, Li et al. 2002) |
-//! | [`Dd::mul`] | `4u²` |
+//! | [`Dd::add`], [`Dd::sub`] | `3u²` (accurate addition; Joldes, Muller & Popescu 2017) |
+//! | [`Dd::mul`] | `7u²` |
 //! | [`Dd::mul_f64`] | `3u²` |
 //! | [`Dd::div`] | `4u²` |
 //! | [`Dd::sqrt`] | `4u²` |
@@ -91,7 +91,7 @@ impl Dd {
     }
 
     /// `self + o`, the accurate double-double addition (relative error
-    /// ≤ `2u²`; not the "sloppy" one-TwoSum variant, which loses everything
+    /// ≤ `3u²`; not the "sloppy" one-TwoSum variant, which loses everything
     /// under cancellation).
     #[inline(always)]
     #[must_use]
@@ -122,7 +122,7 @@ impl Dd {
         self.add(o.neg())
     }
 
-    /// `self · o` (relative error ≤ `4u²`; the `lo·lo` term, below `u²`
+    /// `self · o` (relative error ≤ `7u²`; the `lo·lo` term, below `u²`
     /// relative, is dropped).
     #[inline(always)]
     #[must_use]

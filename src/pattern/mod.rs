@@ -18,15 +18,15 @@
 //!
 //! | pattern | dims | `N` |
 //! |---|---|---|
-//! | [`Random`] | 1–3 | any |
-//! | [`Jittered`] | 1–3 | `m₁·…·m_D` strata |
-//! | [`NRooks`] (Latin hypercube) | 1–3 | any |
-//! | [`MultiJittered`] (Chiu, Shirley & Wang 1994) | 2 | `m·n` |
-//! | [`CorrelatedMultiJittered`] (Kensler 2013) | 2 | `m·n` |
+//! | [`Random`] | 1–3 | `≤ 2³²` |
+//! | [`Jittered`] | 1–3 | `m₁·…·m_D` strata (each `m_i ≤ 2²⁴`, product `≤ 2³²`) |
+//! | [`NRooks`] (Latin hypercube) | 1–3 | `≤ 2²⁴` |
+//! | [`MultiJittered`] (Chiu, Shirley & Wang 1994) | 2 | `m·n ≤ 2²⁴` |
+//! | [`CorrelatedMultiJittered`] (Kensler 2013) | 2 | `m·n ≤ 2²⁴` |
 //! | [`Sobol`] (Owen-scrambled, Burley 2020) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`Halton`] (Owen-scrambled) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing), toroidal | 1–3 | from the radius |
-//! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | any |
+//! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
 //!
 //! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
 //!   for Multiple Integration*, SIAM J. Numer. Anal. 13(6), 1976.
