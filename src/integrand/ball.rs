@@ -11,6 +11,9 @@ use crate::simd::{load8, store8, Lane, LANES};
 use core::f64::consts::PI;
 use wide::f32x8;
 
+/// Unit roundoff `u = 2⁻⁵³`.
+const EPS: f64 = f64::EPSILON / 2.0;
+
 /// `2π` as a double-double.
 const TWO_PI: Dd = Dd {
     hi: core::f64::consts::TAU,
@@ -259,8 +262,10 @@ fn dd_sqrt(x: Dd) -> f64 {
 #[inline]
 fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: f64) -> f64 {
     let mut bh = 0.0;
+    let mut qn = 0.0;
     for j in 0..D {
         bh += q[j].hi * w[j];
+        qn += q[j].hi.abs();
     }
     // Re-base at (nearly) the foot of the perpendicular: exact shift by τ.
     let tau = -bh / a.hi;
@@ -270,9 +275,12 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         qp[j] = q[j].add(Dd::prod(tau, w[j]));
         d2 += qp[j].hi * qp[j].hi;
     }
-    // Quick, safe rejection (d2 is within a few ulp of the exact |q'|², and
-    // |q'|² ≥ dist²); also rejects NaN from overflowing inputs.
-    if !(d2 <= r2.hi * (1.0 + 1e-12)) {
+    // Quick, safe rejection: d2 is within a few ulp of the exact |q'|², and
+    // |q'|² = dist² + a(τ − τ*)² with |τ − τ*| ≤ (D + 2)u|q| (τ* the exact
+    // foot), which matters when r ≲ u|q| (a tiny ball seen from afar, whose
+    // chords were once all rejected). Also rejects NaN from overflowing inputs.
+    let slack = 8.0 * EPS * qn;
+    if !(d2 <= r2.hi * (1.0 + 1e-12) + slack * slack) {
         return 0.0;
     }
     let mut b = Dd::new(0.0);
@@ -286,16 +294,91 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         return 0.0;
     }
     let af = a.to_f64();
-    let h = dd_sqrt(delta) / af;
+    let sd = dd_sqrt(delta);
+    let h = sd / af;
     let tm = tau - b.to_f64() / af;
     let (lo, hi) = (tm - h, tm + h);
-    if t0 <= lo && hi <= t1 {
-        // Unclipped; still never longer than the segment itself (when
+    // A bound on |lo − t−| and |hi − t+| (t± the exact roots): the roundings of
+    // τ, b/a, t_m and t_m ± h, and the conditioning of h (its absolute error is
+    // ≈ 2⁻¹⁰⁴·r²/h, from Δ's). An end farther than `m` from both roots is on a
+    // known side of each, so only an end within `m` needs the re-based roots.
+    let m = 8.0 * EPS * (tau.abs() + tm.abs() + h) + 2f64.powi(-96) * (r2.hi / h);
+    if t0 + m < lo && hi + m < t1 {
+        // Clearly unclipped; still never longer than the segment itself (when
         // `tm ± h` round onto a zero-length segment far out on the line, found
         // by fuzzing).
         return (2.0 * h).min(t1 - t0);
     }
-    (t1.min(hi) - t0.max(lo)).max(0.0)
+    // A NaN end is unbounded on its side.
+    let t0 = if t0.is_nan() { f64::NEG_INFINITY } else { t0 };
+    let t1 = if t1.is_nan() { f64::INFINITY } else { t1 };
+    if !(t0 <= t1) || t1 + m < lo || hi + m < t0 {
+        return 0.0;
+    }
+    // The clipped length, each case one accurately computed quantity (no
+    // rounded root minus an end). With s± = t± − t0 and u± = t± − t1, the
+    // roots of the quadratic re-based at each end (`rebased_roots`; an end
+    // farther than `m` from the chord has known signs), and T = fl(t1 − t0):
+    //   s− ≤ 0 ≤ u+ (both ends inside):  T,
+    //   s− ≤ 0, u+ < 0 (exits inside):    min(T, s+),
+    //   s− > 0 (enters inside):           min(T, −u−, 2h)   (−u− = T − s−).
+    // The signs of s−, u+ are those of the re-based constant terms, exact in
+    // double-double, so an end 1 ulp inside the boundary keeps the length T.
+    let len = t1 - t0;
+    let (sm, sp) = if lo <= t0 + m {
+        rebased_roots(q, w, r2, af, sd, t0)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    };
+    let (um, up) = if t1 <= hi + m {
+        rebased_roots(q, w, r2, af, sd, t1)
+    } else {
+        (f64::NEG_INFINITY, f64::NEG_INFINITY)
+    };
+    if sm <= 0.0 {
+        if !(sp > 0.0) {
+            return 0.0;
+        }
+        if up >= 0.0 {
+            return len;
+        }
+        return len.min(sp);
+    }
+    len.min(-um).min(2.0 * h).max(0.0)
+}
+
+/// The roots `(s−, s+)`, `s = t − e`, of the chord's quadratic re-based at the
+/// finite end `e`: `a s² + 2 b_e s + c_e = 0` with `q_e = q + eω` (exact
+/// products, ≈ 2⁻¹⁰⁴-relative sums), `b_e = q_e·ω`, `c_e = |q_e|² − r²` in
+/// double-double and `√Δ = sd` (`Δ = b_e² − a c_e` is independent of `e`; the
+/// caller's is computed where it does not cancel). The root of larger
+/// magnitude is `−(b_e + sign(b_e)√Δ)/a` (no cancellation), the other `c_e`
+/// over that numerator (the product of the roots is `c_e/a`), so a root near
+/// the end (`c_e → 0`) keeps its relative accuracy.
+#[inline]
+fn rebased_roots<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    r2: Dd,
+    af: f64,
+    sd: f64,
+    e: f64,
+) -> (f64, f64) {
+    let mut b = Dd::new(0.0);
+    let mut c = Dd::new(0.0);
+    for j in 0..D {
+        let qe = q[j].add(Dd::prod(e, w[j]));
+        b = b.add(qe.mul(Dd::new(w[j])));
+        c = c.add(qe.mul(qe));
+    }
+    let (b, c) = (b.to_f64(), c.sub(r2).to_f64());
+    if b >= 0.0 {
+        let k = -(b + sd);
+        (k / af, c / k)
+    } else {
+        let k = sd - b;
+        (c / k, k / af)
+    }
 }
 
 /// `|ω|²` in double-double.
