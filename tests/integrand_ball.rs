@@ -1376,3 +1376,99 @@ fn short_segments_at_the_boundary_are_relatively_exact_3d() {
     let (worst, ratio) = boundary_cases::<3>(0x5eed_0003, 20_000);
     assert!(worst <= 1e-13 && ratio <= 1.0);
 }
+
+/// The exact integral of the periodised indicator along the wrapped segment
+/// `s + tω`, `t ∈ [−λ/2, λ/2]`: the sum over every image `c + n` the
+/// segment can reach of the exact clipped chord.
+fn exact_torus<const D: usize>(ball: &Ball<D>, s: &[f64; D], w: &[f64; D], len: f64) -> Dy {
+    let (c, r) = (ball.centre(), ball.radius());
+    let half = 0.5 * len;
+    let mut lo = [0i64; D];
+    let mut hi = [0i64; D];
+    for j in 0..D {
+        let (a, b) = (s[j] - half * w[j], s[j] + half * w[j]);
+        let (a, b) = (a.min(b), a.max(b));
+        lo[j] = (a - c[j] - r).floor() as i64 - 1;
+        hi[j] = (b - c[j] + r).ceil() as i64 + 1;
+    }
+    let mut sum = Dy::zero();
+    let mut n = lo;
+    loop {
+        let q: [Dy; D] =
+            core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(n[j] as f64)));
+        sum = sum.add(&exact_chord(&q, w, r, -half, half).0);
+        let mut j = 0;
+        loop {
+            if j == D {
+                return sum;
+            }
+            n[j] += 1;
+            if n[j] <= hi[j] {
+                break;
+            }
+            n[j] = lo[j];
+            j += 1;
+        }
+    }
+}
+
+/// Short wrapped segments that cross a cell face where the ball's boundary
+/// crosses it: the sphere meets the face `x_0 = 0` (the centre is within `r`
+/// of it), the segment centre is a boundary point on (or within `10⁻¹⁷` of,
+/// or one period or `10³` periods away from) that face, so the segment is
+/// split into pieces exactly where the chord is clipped.
+fn torus_cases<const D: usize>(seed: u64, n: usize) -> f64 {
+    let mut g = Mix(seed);
+    let mut worst = 0.0f64;
+    for _ in 0..n {
+        let r = 10f64.powf(g.range(-3.0, 0.5f64.log10()));
+        let mut c: [f64; D] = core::array::from_fn(|_| g.f());
+        c[0] = g.f() * r; // the sphere crosses x_0 = 0 (and its image, x_0 = 1)
+        let ball = Ball::<D>::new(c, r).unwrap();
+        // A boundary point X on the face: X_0 = 0, |X − c| = r.
+        let mut u: [f64; D] = g.unit();
+        u[0] = 0.0;
+        let un = u.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let rho = (r * r - c[0] * c[0]).sqrt();
+        let mut s: [f64; D] = core::array::from_fn(|j| c[j] + rho * u[j] / un);
+        s[0] = match g.below(6) {
+            0 => 0.0,
+            1 => -1e-17,
+            2 => 1e-17,
+            3 => 1.0,
+            4 => -1.0 + 1e-17,
+            _ => 1e3,
+        };
+        let v: [f64; D] = loop {
+            let v: [f64; D] = g.unit();
+            if v[0].abs() > 0.05 {
+                break v;
+            }
+        };
+        let dir = Direction::new(v).unwrap();
+        let len = 2.0 * r * 10f64.powf(-g.range(0.0, 13.0));
+        let seg = Segment::new(s, dir, len).unwrap();
+        let got = ball.segment_integral(&seg);
+        let want = exact_torus(&ball, &seg.centre(), &dir.get(), seg.length());
+        let err = rel_err_exact(got, &want);
+        if want.signum() == 0 {
+            assert!(got <= 4.0 * U * len, "{got:e} vs 0: r={r:e} c={c:?} s={s:?} λ={len:e}");
+            continue;
+        }
+        assert!(
+            err <= 1e-13,
+            "torus: rel err {err:e}: r={r:e} c={c:?} s={s:?} w={:?} λ={len:e}: got {got:e} want {:e}",
+            dir.get(),
+            want.to_f64()
+        );
+        worst = worst.max(err);
+    }
+    worst
+}
+
+#[test]
+fn short_wrapped_segments_across_faces_and_the_boundary() {
+    let w2 = torus_cases::<2>(0x7045_0002, 3000);
+    let w3 = torus_cases::<3>(0x7045_0003, 3000);
+    eprintln!("wrapped boundary segments across a face: worst relative error 2D {w2:.2e}, 3D {w3:.2e}");
+}

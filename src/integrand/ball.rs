@@ -5,8 +5,8 @@
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::dd::{two_prod, two_sum, Dd};
-use crate::geom::{frac, Direction};
-use crate::primitive::Rays32;
+use crate::geom::{for_each_piece, frac, Direction};
+use crate::primitive::{Rays32, Segment};
 use crate::simd::{load8, store8, Lane, LANES};
 use core::f64::consts::PI;
 use wide::f32x8;
@@ -215,6 +215,62 @@ impl<const D: usize> Ball<D> {
             let rho3 = rho.mul(rho).mul(rho).to_f64();
             g / (2.0 * PI * PI * rho3)
         }
+    }
+
+    /// [`Integrand::piece_integral`] with the offset `q0 = p − c` of the
+    /// piece origin `p` from the centre given exactly (the origin itself is
+    /// only used to select the images).
+    fn piece_chords(&self, p: &[f64; D], q0: &[Dd; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
+        if !(t1 > t0) {
+            return 0.0;
+        }
+        let w = dir.get();
+        let a = norm2(&w);
+        let r = self.radius;
+        // Bounding box of the piece, clamped to the unit cell (where the piece
+        // lies by contract; also covers infinite parameters).
+        let mut lo = [0.0; D];
+        let mut hi = [1.0; D];
+        for j in 0..D {
+            let (u, v) = (p[j] + t0 * w[j], p[j] + t1 * w[j]);
+            let (u, v) = if u <= v { (u, v) } else { (v, u) };
+            if u.is_finite() && v.is_finite() {
+                lo[j] = u.clamp(0.0, 1.0);
+                hi[j] = v.clamp(0.0, 1.0);
+            }
+        }
+        // Per-axis distance from c_j + n_j to [lo_j, hi_j], shrunk by a margin
+        // that covers its rounding, so no reaching image is ever dropped.
+        let mut dist2 = [[0.0f64; 3]; D];
+        for j in 0..D {
+            for (m, n) in [-1.0f64, 0.0, 1.0].into_iter().enumerate() {
+                let x = self.centre[j] + n;
+                let d = (lo[j] - x).max(x - hi[j]).max(0.0);
+                let d = (d - 4e-16).max(0.0);
+                dist2[j][m] = d * d;
+            }
+        }
+        let r2 = r * r * (1.0 + 1e-12);
+        let mut sum = 0.0;
+        let total = if D == 2 { 9 } else { 27 };
+        for idx in 0..total {
+            let mut m = idx;
+            let mut dd = 0.0;
+            let mut q = *q0;
+            for j in 0..D {
+                let mj = m % 3;
+                m /= 3;
+                dd += dist2[j][mj];
+                if mj != 1 {
+                    // q = p − (c + n), n = mj − 1
+                    q[j] = q[j].add(Dd::new(1.0 - mj as f64));
+                }
+            }
+            if dd < r2 {
+                sum += chord(&q, &w, a, self.r2, t0, t1);
+            }
+        }
+        sum
     }
 
     /// The `f32` chord kernel shared by the scalar twin and the SIMD batch.
@@ -508,59 +564,45 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// formed in double-double, so each chord has the error of
     /// [`Ball::segment_free`].
     fn piece_integral(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
-        if !(t1 > t0) {
-            return 0.0;
-        }
-        let w = dir.get();
-        let a = norm2(&w);
-        let r = self.radius;
-        // Bounding box of the piece, clamped to the unit cell (where the piece
-        // lies by contract; also covers infinite parameters).
-        let mut lo = [0.0; D];
-        let mut hi = [1.0; D];
-        for j in 0..D {
-            let (u, v) = (p[j] + t0 * w[j], p[j] + t1 * w[j]);
-            let (u, v) = if u <= v { (u, v) } else { (v, u) };
-            if u.is_finite() && v.is_finite() {
-                lo[j] = u.clamp(0.0, 1.0);
-                hi[j] = v.clamp(0.0, 1.0);
-            }
-        }
-        // Per-axis distance from c_j + n_j to [lo_j, hi_j], shrunk by a margin
-        // that covers its rounding, so no reaching image is ever dropped.
-        let mut dist2 = [[0.0f64; 3]; D];
-        for j in 0..D {
-            for (m, n) in [-1.0f64, 0.0, 1.0].into_iter().enumerate() {
-                let x = self.centre[j] + n;
-                let d = (lo[j] - x).max(x - hi[j]).max(0.0);
-                let d = (d - 4e-16).max(0.0);
-                dist2[j][m] = d * d;
-            }
-        }
         let mut q0 = [Dd::new(0.0); D];
         for j in 0..D {
             q0[j] = Dd::diff(p[j], self.centre[j]);
         }
-        let r2 = r * r * (1.0 + 1e-12);
-        let mut sum = 0.0;
-        let total = if D == 2 { 9 } else { 27 };
-        for idx in 0..total {
-            let mut m = idx;
-            let mut dd = 0.0;
-            let mut q = q0;
-            for j in 0..D {
-                let mj = m % 3;
-                m /= 3;
-                dd += dist2[j][mj];
-                if mj != 1 {
-                    // q = p − (c + n), n = mj − 1
-                    q[j] = q[j].add(Dd::new(1.0 - mj as f64));
-                }
-            }
-            if dd < r2 {
-                sum += chord(&q, &w, a, self.r2, t0, t1);
-            }
+        self.piece_chords(p, &q0, dir, t0, t1)
+    }
+
+    /// The wrapped segment integral: the sum of the piece integrals over the
+    /// cells crossed, as the provided method, but with each piece's offset
+    /// from the centre, `c_s − c − k − m` (segment centre `c_s`, `k` the
+    /// integer it is reduced by, `m` the piece's cell), formed exactly in
+    /// double-double instead of from the piece origin `frac(c_s) − m` that
+    /// [`crate::geom::for_each_piece`] rounds. The chords are clipped at the
+    /// pieces' ends, so a rounded origin would shift a clip at the boundary by
+    /// up to `2⁻⁵⁴`, a large relative error for a short segment. Each piece
+    /// then has the error of [`Ball::segment_free`] (see [`Ball`], numerics).
+    fn segment_integral(&self, seg: &Segment<D>) -> f64 {
+        let half = 0.5 * seg.length();
+        if half == 0.0 {
+            return 0.0;
         }
+        let c0 = seg.centre();
+        let mut c = [0.0; D];
+        let mut cq = [Dd::new(0.0); D];
+        for j in 0..D {
+            c[j] = frac(c0[j]);
+            // c0 − c is an integer up to the rounding of `frac` (≤ 2⁻⁵⁴, or
+            // a result rounded to 1 returned as 0).
+            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::round(c0[j] - c[j])));
+        }
+        let dir = seg.dir();
+        let mut sum = 0.0;
+        for_each_piece(&c, &dir, -half, half, |p, a, b| {
+            let mut q0 = cq;
+            for j in 0..D {
+                q0[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+            }
+            sum += self.piece_chords(p, &q0, &dir, a, b);
+        });
         sum
     }
 
