@@ -301,18 +301,37 @@ proptest! {
         p in prop::array::uniform2(-2.0f64..3.0),
         c in prop::array::uniform2(-5.0f64..5.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        r in 1e-6f64..0.5,
+        lg_r in -100.0f64..-0.30103,
+        aim in prop::array::uniform2(-1.5f64..1.5),
+        aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
         len in 0.0f64..4.0,
     ) {
+        // Radii log-uniform over the whole accepted range 1e-100 … 1/2; half
+        // the cases start within 1.5r of the centre so tiny balls are hit.
+        let r = 10f64.powf(lg_r).clamp(Ball::<2>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() > 1e-3);
         let ball = Ball::<2>::new(c, r).unwrap();
         let dir = unit(v);
+        let p: [f64; 2] = if aimed {
+            core::array::from_fn(|j| ball.centre()[j] + aim[j] * r)
+        } else {
+            p
+        };
         let q = q_of(&p, &ball.centre());
         for (a, b) in [(t0, t0 + len), (f64::NEG_INFINITY, f64::INFINITY), (t0, t0)] {
             let (want, tol) = ref_chord(&q, &dir.get(), r, a, b);
             let got = ball.segment_free(&p, &dir, a, b);
             prop_assert!((got - want).abs() <= tol, "{} vs {}", got, want);
+        }
+        // The finite segment against exact arithmetic, at the stated bound.
+        let (exact, sd) = exact_chord(&exact_q(&p, &ball.centre()), &dir.get(), r, t0, t0 + len);
+        let got = ball.segment_free(&p, &dir, t0, t0 + len);
+        if exact.signum() == 0 {
+            prop_assert!(got <= 4.0 * U * len, "{:e} vs 0", got);
+        } else {
+            let err = rel_err_exact(got, &exact);
+            prop_assert!(err <= chord_bound(r, exact.to_f64(), sd), "rel err {:e}: {:e} vs {:e}", err, got, exact.to_f64());
         }
     }
 
@@ -321,18 +340,37 @@ proptest! {
         p in prop::array::uniform3(-2.0f64..3.0),
         c in prop::array::uniform3(-5.0f64..5.0),
         v in prop::array::uniform3(-1.0f64..1.0),
-        r in 1e-6f64..0.5,
+        lg_r in -100.0f64..-0.30103,
+        aim in prop::array::uniform3(-1.5f64..1.5),
+        aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
         len in 0.0f64..4.0,
     ) {
+        // Radii log-uniform over the whole accepted range 1e-100 … 1/2; half
+        // the cases start within 1.5r of the centre so tiny balls are hit.
+        let r = 10f64.powf(lg_r).clamp(Ball::<3>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() + v[2].abs() > 1e-3);
         let ball = Ball::<3>::new(c, r).unwrap();
         let dir = unit(v);
+        let p: [f64; 3] = if aimed {
+            core::array::from_fn(|j| ball.centre()[j] + aim[j] * r)
+        } else {
+            p
+        };
         let q = q_of(&p, &ball.centre());
         for (a, b) in [(t0, t0 + len), (f64::NEG_INFINITY, f64::INFINITY), (t0, t0)] {
             let (want, tol) = ref_chord(&q, &dir.get(), r, a, b);
             let got = ball.segment_free(&p, &dir, a, b);
             prop_assert!((got - want).abs() <= tol, "{} vs {}", got, want);
+        }
+        // The finite segment against exact arithmetic, at the stated bound.
+        let (exact, sd) = exact_chord(&exact_q(&p, &ball.centre()), &dir.get(), r, t0, t0 + len);
+        let got = ball.segment_free(&p, &dir, t0, t0 + len);
+        if exact.signum() == 0 {
+            prop_assert!(got <= 4.0 * U * len, "{:e} vs 0", got);
+        } else {
+            let err = rel_err_exact(got, &exact);
+            prop_assert!(err <= chord_bound(r, exact.to_f64(), sd), "rel err {:e}: {:e} vs {:e}", err, got, exact.to_f64());
         }
     }
 
@@ -342,9 +380,10 @@ proptest! {
         s in prop::array::uniform2(-3.0f64..3.0),
         c in prop::array::uniform2(-3.0f64..3.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        r in 1e-4f64..0.5,
+        lg_r in -100.0f64..-0.30103,
         len in 0.0f64..3.0,
     ) {
+        let r = 10f64.powf(lg_r).clamp(Ball::<2>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() > 1e-3);
         let ball = Ball::<2>::new(c, r).unwrap();
         let dir = unit(v);
@@ -1060,7 +1099,8 @@ fn bad_inputs_do_not_panic() {
         0.0
     );
     let z = ball.segment_free_f32([0.3, 0.6], [0.0, 0.0], 0.0, 1.0);
-    assert!(z.is_finite() || z.is_nan());
+    // Unspecified for d = 0, but never longer than the segment.
+    assert!(z.is_nan() || (0.0..=1.0).contains(&z), "{z}");
 }
 
 #[test]
@@ -1452,7 +1492,10 @@ fn torus_cases<const D: usize>(seed: u64, n: usize) -> f64 {
         let want = exact_torus(&ball, &seg.centre(), &dir.get(), seg.length());
         let err = rel_err_exact(got, &want);
         if want.signum() == 0 {
-            assert!(got <= 4.0 * U * len, "{got:e} vs 0: r={r:e} c={c:?} s={s:?} λ={len:e}");
+            assert!(
+                got <= 4.0 * U * len,
+                "{got:e} vs 0: r={r:e} c={c:?} s={s:?} λ={len:e}"
+            );
             continue;
         }
         assert!(
@@ -1470,5 +1513,7 @@ fn torus_cases<const D: usize>(seed: u64, n: usize) -> f64 {
 fn short_wrapped_segments_across_faces_and_the_boundary() {
     let w2 = torus_cases::<2>(0x7045_0002, 3000);
     let w3 = torus_cases::<3>(0x7045_0003, 3000);
-    eprintln!("wrapped boundary segments across a face: worst relative error 2D {w2:.2e}, 3D {w3:.2e}");
+    eprintln!(
+        "wrapped boundary segments across a face: worst relative error 2D {w2:.2e}, 3D {w3:.2e}"
+    );
 }

@@ -220,7 +220,14 @@ impl<const D: usize> Ball<D> {
     /// [`Integrand::piece_integral`] with the offset `q0 = p − c` of the
     /// piece origin `p` from the centre given exactly (the origin itself is
     /// only used to select the images).
-    fn piece_chords(&self, p: &[f64; D], q0: &[Dd; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
+    fn piece_chords(
+        &self,
+        p: &[f64; D],
+        q0: &[Dd; D],
+        dir: &Direction<D>,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
         if !(t1 > t0) {
             return 0.0;
         }
