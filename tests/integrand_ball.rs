@@ -14,7 +14,7 @@ mod common;
 mod exact;
 
 use common::{integrate, rel_err};
-use exact::{rel_err_exact, Dy};
+use exact::{rel_err_exact, Dy, Mix};
 use linesample::geom::dd::{two_prod, Dd};
 use linesample::geom::{clip_to_unit_box, Direction};
 use linesample::integrand::{Ball, Complex, Integrand};
@@ -1171,39 +1171,6 @@ fn throughput() {
 // ---------------------------------------------------------------------------
 // Short segments at the boundary: relative accuracy against exact arithmetic
 // ---------------------------------------------------------------------------
-
-/// SplitMix64 (fixed seeds; the cases are deterministic).
-struct Mix(u64);
-
-impl Mix {
-    fn u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        z ^ (z >> 31)
-    }
-    /// Uniform on `[0, 1)`.
-    fn f(&mut self) -> f64 {
-        (self.u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
-    }
-    fn range(&mut self, a: f64, b: f64) -> f64 {
-        a + (b - a) * self.f()
-    }
-    fn below(&mut self, n: u64) -> u64 {
-        self.u64() % n
-    }
-    /// A unit vector (rejection from the cube, then normalised in f64).
-    fn unit<const D: usize>(&mut self) -> [f64; D] {
-        loop {
-            let v: [f64; D] = core::array::from_fn(|_| self.range(-1.0, 1.0));
-            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
-            if n > 0.1 && n <= 1.0 {
-                return v.map(|x| x / n);
-            }
-        }
-    }
-}
 
 /// The exact clipped chord `max(0, min(t1, t+) − max(t0, t−))` of the line
 /// `c_rel + tω` (`q` = point minus ball centre, exact) with the ball of radius

@@ -185,6 +185,39 @@ pub fn rel_err_exact(got: f64, want: &Dy) -> f64 {
     Dy::f(got).sub(want).div(want).to_f64().abs()
 }
 
+/// SplitMix64 (fixed seeds; the cases are deterministic).
+pub struct Mix(pub u64);
+
+impl Mix {
+    pub fn u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+    /// Uniform on `[0, 1)`.
+    pub fn f(&mut self) -> f64 {
+        (self.u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+    pub fn range(&mut self, a: f64, b: f64) -> f64 {
+        a + (b - a) * self.f()
+    }
+    pub fn below(&mut self, n: u64) -> u64 {
+        self.u64() % n
+    }
+    /// A unit vector (rejection from the cube, then normalised in f64).
+    pub fn unit<const D: usize>(&mut self) -> [f64; D] {
+        loop {
+            let v: [f64; D] = core::array::from_fn(|_| self.range(-1.0, 1.0));
+            let n = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if n > 0.1 && n <= 1.0 {
+                return v.map(|x| x / n);
+            }
+        }
+    }
+}
+
 #[test]
 fn dyadic_arithmetic_is_exact() {
     // (1 + 2⁻⁵²)² = 1 + 2⁻⁵¹ + 2⁻¹⁰⁴: not a double, but exact here.
