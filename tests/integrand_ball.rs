@@ -301,7 +301,7 @@ proptest! {
         p in prop::array::uniform2(-2.0f64..3.0),
         c in prop::array::uniform2(-5.0f64..5.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        lg_r in -100.0f64..-0.30103,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
         aim in prop::array::uniform2(-1.5f64..1.5),
         aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
@@ -340,7 +340,7 @@ proptest! {
         p in prop::array::uniform3(-2.0f64..3.0),
         c in prop::array::uniform3(-5.0f64..5.0),
         v in prop::array::uniform3(-1.0f64..1.0),
-        lg_r in -100.0f64..-0.30103,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
         aim in prop::array::uniform3(-1.5f64..1.5),
         aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
@@ -380,7 +380,7 @@ proptest! {
         s in prop::array::uniform2(-3.0f64..3.0),
         c in prop::array::uniform2(-3.0f64..3.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        lg_r in -100.0f64..-0.30103,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
         len in 0.0f64..3.0,
     ) {
         let r = 10f64.powf(lg_r).clamp(Ball::<2>::RADIUS_MIN, 0.5);

@@ -1227,8 +1227,9 @@ fn short_gauss_cases<const D: usize>(seed: u64, n: usize) -> (f64, f64) {
             let mut want = 0.0;
             let mut m = lo;
             'images: loop {
-                let q: [Dy; D] =
-                    core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(m[j] as f64)));
+                let q: [Dy; D] = core::array::from_fn(|j| {
+                    Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(m[j] as f64))
+                });
                 let qf: [f64; D] = core::array::from_fn(|j| q[j].to_f64());
                 if qf.iter().map(|v| v * v).sum::<f64>().sqrt() < reach {
                     want += exact_gauss_seg(&q, &w, sigma, -0.5 * l, 0.5 * l);
@@ -1252,7 +1253,11 @@ fn short_gauss_cases<const D: usize>(seed: u64, n: usize) -> (f64, f64) {
         } else {
             // Straddling the foot of x, ending there, or starting there, seen
             // from the point itself or from up to 10³ away.
-            let reach = if g.below(2) == 0 { 0.0 } else { 10f64.powf(g.range(-3.0, 3.0)) };
+            let reach = if g.below(2) == 0 {
+                0.0
+            } else {
+                10f64.powf(g.range(-3.0, 3.0))
+            };
             let p: [f64; D] = core::array::from_fn(|j| x[j] - reach * w[j]);
             let (t0, t1) = match g.below(3) {
                 0 => (reach - g.f() * len, 0.0),

@@ -14,6 +14,9 @@ use wide::f32x8;
 /// Unit roundoff `u = 2⁻⁵³`.
 const EPS: f64 = f64::EPSILON / 2.0;
 
+/// `2⁻⁹⁶` (the conditioning margin of the clipped chord, see `chord`).
+const TWO_M96: f64 = f64::from_bits((1023 - 96) << 52);
+
 /// `2π` as a double-double.
 const TWO_PI: Dd = Dd {
     hi: core::f64::consts::TAU,
@@ -382,7 +385,7 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
     // τ, b/a, t_m and t_m ± h, and the conditioning of h (its absolute error is
     // ≈ 2⁻¹⁰⁴·r²/h, from Δ's). An end farther than `m` from both roots is on a
     // known side of each, so only an end within `m` needs the re-based roots.
-    let m = 8.0 * EPS * (tau.abs() + tm.abs() + h) + 2f64.powi(-96) * (r2.hi / h);
+    let m = 8.0 * EPS * (tau.abs() + tm.abs() + h) + TWO_M96 * (r2.hi / h);
     if t0 + m < lo && hi + m < t1 {
         // Clearly unclipped; still never longer than the segment itself (when
         // `tm ± h` round onto a zero-length segment far out on the line, found
