@@ -1419,8 +1419,8 @@ fn exact_torus<const D: usize>(ball: &Ball<D>, s: &[f64; D], w: &[f64; D], len: 
     }
 }
 
-/// Short wrapped segments that cross a cell face where the ball's boundary
-/// crosses it: the sphere meets the face `x_0 = 0` (the centre is within `r`
+/// Short wrapped segments (`λ = 2r·10^{−U(0,13)}`) that cross a cell face
+/// where the ball's boundary crosses it: the sphere meets the face `x_0 = 0` (the centre is within `r`
 /// of it), the segment centre is a boundary point on (or within `10⁻¹⁷` of,
 /// or one period or `10³` periods away from) that face, so the segment is
 /// split into pieces exactly where the chord is clipped.
@@ -1428,7 +1428,9 @@ fn torus_cases<const D: usize>(seed: u64, n: usize) -> f64 {
     let mut g = Mix(seed);
     let mut worst = 0.0f64;
     for _ in 0..n {
-        let r = 10f64.powf(g.range(-3.0, 0.5f64.log10()));
+        // Radii 1e-9 … 1/2 (below, the cell coordinates' ulp ~1e-16 no longer
+        // resolves the boundary point).
+        let r = 10f64.powf(g.range(-9.0, 0.5f64.log10()));
         let mut c: [f64; D] = core::array::from_fn(|_| g.f());
         c[0] = g.f() * r; // the sphere crosses x_0 = 0 (and its image, x_0 = 1)
         let ball = Ball::<D>::new(c, r).unwrap();
