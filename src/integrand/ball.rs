@@ -405,8 +405,9 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
     //   s− ≤ 0 ≤ u+ (both ends inside):  T,
     //   s− ≤ 0, u+ < 0 (exits inside):    min(T, s+),
     //   s− > 0 (enters inside):           min(T, −u−, 2h)   (−u− = T − s−).
-    // The signs of s−, u+ are those of the re-based constant terms, exact in
-    // double-double, so an end 1 ulp inside the boundary keeps the length T.
+    // The signs of s−, u+ are those of the re-based constant terms c_e, whose
+    // double-double error is ≈ 2⁻¹⁰²|q_e|², so an end inside the boundary by
+    // more than ≈ 2⁻¹⁰⁰r²/h (far below 1 ulp of e unless e ≈ 0) keeps T.
     let len = t1 - t0;
     let (sm, sp) = if lo <= t0 + m {
         rebased_roots(q, w, r2, af, sd, t0)
