@@ -1282,3 +1282,74 @@ fn short_segments_against_exact_arithmetic() {
     let (f3, t3) = short_gauss_cases::<3>(0x6a55_0003, 2000);
     eprintln!("short Gaussian segments: worst relative error free 2D {f2:.2e}, 3D {f3:.2e}; wrapped 2D {t2:.2e}, 3D {t3:.2e}");
 }
+
+/// The Fourier path (`σ > 0.3`) on very short wrapped segments,
+/// `λ = σ·10^{−U(8,15)}`, centred on or next to a cell face, against
+/// `λ·f(c_s)` with `f(c_s)` the image sum over `|c_s − c − n| < 12σ` with
+/// exact exponents: the midpoint rule's error is `λ³·max|f''|/24`, below
+/// `λ²(1 + 2·72)/(24σ²) ≤ 7e−16` relative here. Asserted at `1e−13`
+/// relative; returns the worst.
+fn short_fourier_cases<const D: usize>(seed: u64, n: usize) -> f64 {
+    let mut g = Mix(seed);
+    let mut worst = 0.0f64;
+    for _ in 0..n {
+        let sigma = g.range(0.3, 0.6);
+        let c: [f64; D] = core::array::from_fn(|_| g.f());
+        let gs = Gaussian::<D>::new(c, sigma).unwrap();
+        let c = gs.centre();
+        let mut s: [f64; D] = core::array::from_fn(|_| g.f());
+        s[0] = match g.below(4) {
+            0 => 0.0,
+            1 => -1e-17,
+            2 => 1.0,
+            _ => 1e3,
+        };
+        let dir = Direction::new(g.unit::<D>()).unwrap();
+        let len = sigma * 10f64.powf(-g.range(8.0, 15.0));
+        let seg = Segment::new(s, dir, len).unwrap();
+        let got = gs.segment_integral(&seg);
+        let s = seg.centre();
+        let reach = 12.0 * sigma;
+        let lo: [i64; D] = core::array::from_fn(|j| (s[j] - c[j] - reach).floor() as i64);
+        let hi: [i64; D] = core::array::from_fn(|j| (s[j] - c[j] + reach).ceil() as i64);
+        let s2 = Dy::f(sigma).mul(&Dy::f(sigma));
+        let two_s2 = s2.add(&s2);
+        let mut f = 0.0;
+        let mut m = lo;
+        'images: loop {
+            let q: [Dy; D] =
+                core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(m[j] as f64)));
+            let e = exact::dot(&q, &q).div(&two_s2);
+            if e.to_f64() < 72.0 {
+                f += exp_neg_exact(&e);
+            }
+            let mut j = 0;
+            loop {
+                if j == D {
+                    break 'images;
+                }
+                m[j] += 1;
+                if m[j] <= hi[j] {
+                    break;
+                }
+                m[j] = lo[j];
+                j += 1;
+            }
+        }
+        let want = seg.length() * norm(D, sigma) * f;
+        let err = rel_err(got, want);
+        assert!(
+            err <= 1e-13,
+            "Fourier path σ={sigma} c={c:?} s={s:?} λ={len:e}: {got:e} vs {want:e} ({err:e})"
+        );
+        worst = worst.max(err);
+    }
+    worst
+}
+
+#[test]
+fn short_segments_fourier_path_against_exact_image_sums() {
+    let w2 = short_fourier_cases::<2>(0xf0_0002, 300);
+    let w3 = short_fourier_cases::<3>(0xf0_0003, 60);
+    eprintln!("short wrapped Gaussian segments, σ ∈ [0.3, 0.6) (Fourier path): worst relative error 2D {w2:.2e}, 3D {w3:.2e}");
+}
