@@ -11,8 +11,10 @@
 )]
 
 mod common;
+mod exact;
 
 use common::{integrate, rel_err};
+use exact::{rel_err_exact, Dy, Mix};
 use linesample::geom::{clip_to_unit_box, Direction};
 use linesample::integrand::{Ball, Complex, Integrand};
 use linesample::num::{two_prod, Dd};
@@ -299,18 +301,37 @@ proptest! {
         p in prop::array::uniform2(-2.0f64..3.0),
         c in prop::array::uniform2(-5.0f64..5.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        r in 1e-6f64..0.5,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
+        aim in prop::array::uniform2(-1.5f64..1.5),
+        aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
         len in 0.0f64..4.0,
     ) {
+        // Radii log-uniform over the whole accepted range 1e-100 … 1/2; half
+        // the cases start within 1.5r of the centre so tiny balls are hit.
+        let r = 10f64.powf(lg_r).clamp(Ball::<2>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() > 1e-3);
         let ball = Ball::<2>::new(c, r).unwrap();
         let dir = unit(v);
+        let p: [f64; 2] = if aimed {
+            core::array::from_fn(|j| ball.centre()[j] + aim[j] * r)
+        } else {
+            p
+        };
         let q = q_of(&p, &ball.centre());
         for (a, b) in [(t0, t0 + len), (f64::NEG_INFINITY, f64::INFINITY), (t0, t0)] {
             let (want, tol) = ref_chord(&q, &dir.get(), r, a, b);
             let got = ball.segment_free(&p, &dir, a, b);
             prop_assert!((got - want).abs() <= tol, "{} vs {}", got, want);
+        }
+        // The finite segment against exact arithmetic, at the stated bound.
+        let (exact, sd) = exact_chord(&exact_q(&p, &ball.centre()), &dir.get(), r, t0, t0 + len);
+        let got = ball.segment_free(&p, &dir, t0, t0 + len);
+        if exact.signum() == 0 {
+            prop_assert!(got <= 4.0 * U * len, "{:e} vs 0", got);
+        } else {
+            let err = rel_err_exact(got, &exact);
+            prop_assert!(err <= chord_bound(r, exact.to_f64(), sd), "rel err {:e}: {:e} vs {:e}", err, got, exact.to_f64());
         }
     }
 
@@ -319,18 +340,37 @@ proptest! {
         p in prop::array::uniform3(-2.0f64..3.0),
         c in prop::array::uniform3(-5.0f64..5.0),
         v in prop::array::uniform3(-1.0f64..1.0),
-        r in 1e-6f64..0.5,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
+        aim in prop::array::uniform3(-1.5f64..1.5),
+        aimed in any::<bool>(),
         t0 in -3.0f64..3.0,
         len in 0.0f64..4.0,
     ) {
+        // Radii log-uniform over the whole accepted range 1e-100 … 1/2; half
+        // the cases start within 1.5r of the centre so tiny balls are hit.
+        let r = 10f64.powf(lg_r).clamp(Ball::<3>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() + v[2].abs() > 1e-3);
         let ball = Ball::<3>::new(c, r).unwrap();
         let dir = unit(v);
+        let p: [f64; 3] = if aimed {
+            core::array::from_fn(|j| ball.centre()[j] + aim[j] * r)
+        } else {
+            p
+        };
         let q = q_of(&p, &ball.centre());
         for (a, b) in [(t0, t0 + len), (f64::NEG_INFINITY, f64::INFINITY), (t0, t0)] {
             let (want, tol) = ref_chord(&q, &dir.get(), r, a, b);
             let got = ball.segment_free(&p, &dir, a, b);
             prop_assert!((got - want).abs() <= tol, "{} vs {}", got, want);
+        }
+        // The finite segment against exact arithmetic, at the stated bound.
+        let (exact, sd) = exact_chord(&exact_q(&p, &ball.centre()), &dir.get(), r, t0, t0 + len);
+        let got = ball.segment_free(&p, &dir, t0, t0 + len);
+        if exact.signum() == 0 {
+            prop_assert!(got <= 4.0 * U * len, "{:e} vs 0", got);
+        } else {
+            let err = rel_err_exact(got, &exact);
+            prop_assert!(err <= chord_bound(r, exact.to_f64(), sd), "rel err {:e}: {:e} vs {:e}", err, got, exact.to_f64());
         }
     }
 
@@ -340,9 +380,10 @@ proptest! {
         s in prop::array::uniform2(-3.0f64..3.0),
         c in prop::array::uniform2(-3.0f64..3.0),
         v in prop::array::uniform2(-1.0f64..1.0),
-        r in 1e-4f64..0.5,
+        lg_r in -100.0f64..-std::f64::consts::LOG10_2,
         len in 0.0f64..3.0,
     ) {
+        let r = 10f64.powf(lg_r).clamp(Ball::<2>::RADIUS_MIN, 0.5);
         prop_assume!(v[0].abs() + v[1].abs() > 1e-3);
         let ball = Ball::<2>::new(c, r).unwrap();
         let dir = unit(v);
@@ -1058,7 +1099,8 @@ fn bad_inputs_do_not_panic() {
         0.0
     );
     let z = ball.segment_free_f32([0.3, 0.6], [0.0, 0.0], 0.0, 1.0);
-    assert!(z.is_finite() || z.is_nan());
+    // Unspecified for d = 0, but never longer than the segment.
+    assert!(z.is_nan() || (0.0..=1.0).contains(&z), "{z}");
 }
 
 #[test]
@@ -1124,4 +1166,323 @@ fn throughput() {
     }
     let simd3 = (n * reps) as f64 / t.elapsed().as_secs_f64() / 1e6;
     eprintln!("2D f32 batch: {simd:.0} M lines/s; 2D f64 scalar: {scalar:.1} M lines/s ({:.1}×); 3D f32 batch: {simd3:.0} M lines/s ({acc})", simd / scalar);
+}
+
+// ---------------------------------------------------------------------------
+// Short segments at the boundary: relative accuracy against exact arithmetic
+// ---------------------------------------------------------------------------
+
+/// The exact clipped chord `max(0, min(t1, t+) − max(t0, t−))` of the line
+/// `c_rel + tω` (`q` = point minus ball centre, exact) with the ball of radius
+/// `r` at the origin, for finite `t0 ≤ t1`: the quadratic re-based at `t0` with
+/// exact dyadic coefficients, its roots to 1400 bits, the difference formed
+/// in that precision. Also returns `√Δ` (rounded): the half chord times `|ω|²`.
+fn exact_chord<const D: usize>(q: &[Dy; D], w: &[f64; D], r: f64, t0: f64, t1: f64) -> (Dy, f64) {
+    let wd: [Dy; D] = core::array::from_fn(|j| Dy::f(w[j]));
+    let t0d = Dy::f(t0);
+    let q0: [Dy; D] = core::array::from_fn(|j| q[j].add(&t0d.mul(&wd[j])));
+    let a = exact::dot(&wd, &wd);
+    let b = exact::dot(&q0, &wd);
+    let c = exact::dot(&q0, &q0).sub(&Dy::f(r).mul(&Dy::f(r)));
+    let delta = b.mul(&b).sub(&a.mul(&c));
+    if delta.signum() <= 0 {
+        return (Dy::zero(), 0.0);
+    }
+    let sd = delta.sqrt();
+    let sm = b.neg().sub(&sd).div(&a);
+    let sp = b.neg().add(&sd).div(&a);
+    let len = Dy::f(t1).sub(&t0d).min(sp).sub(&Dy::zero().max(sm));
+    (Dy::zero().max(len), sd.to_f64())
+}
+
+/// The exact roots `t−, t+` (frame `t = 0`), or `None`.
+fn exact_roots<const D: usize>(q: &[Dy; D], w: &[f64; D], r: f64) -> Option<(Dy, Dy)> {
+    let wd: [Dy; D] = core::array::from_fn(|j| Dy::f(w[j]));
+    let a = exact::dot(&wd, &wd);
+    let b = exact::dot(q, &wd);
+    let c = exact::dot(q, q).sub(&Dy::f(r).mul(&Dy::f(r)));
+    let delta = b.mul(&b).sub(&a.mul(&c));
+    if delta.signum() <= 0 {
+        return None;
+    }
+    let sd = delta.sqrt();
+    Some((b.neg().sub(&sd).div(&a), b.neg().add(&sd).div(&a)))
+}
+
+fn exact_q<const D: usize>(p: &[f64; D], c: &[f64; D]) -> [Dy; D] {
+    core::array::from_fn(|j| Dy::f(p[j]).sub(&Dy::f(c[j])))
+}
+
+/// The stated error bound of the clipped chord (see `Ball`, numerics):
+/// `8u + 2⁻¹⁰⁰·(r²/(L·√Δ) + r²/Δ)` relative, `L` the exact length.
+fn chord_bound(r: f64, len: f64, sd: f64) -> f64 {
+    let k = 2f64.powi(-100);
+    8.0 * U + k * (r * r / (len * sd) + r * r / (sd * sd))
+}
+
+/// Which kind of segment a case is (for the report of the worst case).
+const KINDS: [&str; 5] = [
+    "straddle",
+    "ends at root",
+    "starts at root",
+    "inside",
+    "grazing",
+];
+
+/// Short segments straddling, ending at (0 or ±1 ulp from) or lying just
+/// inside the boundary of balls of radius `1e-100 … 0.5`, seen from near and
+/// far (`t` up to `1e3`), lengths `2r·10^{−U(0,15)}` (down to `1e-15` at
+/// `r = 0.5`), plus grazing directions (`|ω·n| = 10^{−U(1,8)}`). Returns the
+/// worst relative error where the bound is `≤ 1e-14` (must be `≤ 1e-13`) and
+/// the worst error over bound elsewhere (must be `≤ 1`).
+fn boundary_cases<const D: usize>(seed: u64, n: usize) -> (f64, f64) {
+    let mut g = Mix(seed);
+    let (mut worst, mut worst_ratio) = (0.0f64, 0.0f64);
+    let mut counts = [0usize; 5];
+    let mut inside_exact = 0usize;
+    let mut strict = 0usize;
+    for i in 0..n {
+        let r = if i % 2 == 0 {
+            10f64.powf(g.range(-3.0, 0.5f64.log10()))
+        } else {
+            10f64.powf(g.range(-100.0, 0.5f64.log10()))
+        };
+        // Centre: anywhere in the cell (or 1e6 cells away) where its ulp is
+        // far below r, else at the scale of r so the boundary is resolvable.
+        let c: [f64; D] = if r > 1e-9 {
+            let far = if g.below(4) == 0 { 1e6 } else { 0.0 };
+            core::array::from_fn(|_| far + g.f())
+        } else {
+            core::array::from_fn(|_| g.range(-1e3, 1e3) * r)
+        };
+        let ball = Ball::<D>::new(c, r).unwrap();
+        let c = ball.centre();
+        let nrm: [f64; D] = g.unit();
+        let grazing = g.below(5) == 0;
+        let v: [f64; D] = if grazing {
+            // tangent + ε·normal
+            let mut t: [f64; D] = g.unit();
+            let d: f64 = (0..D).map(|j| t[j] * nrm[j]).sum();
+            for j in 0..D {
+                t[j] -= d * nrm[j];
+            }
+            let eps = 10f64.powf(-g.range(1.0, 8.0)) * if g.below(2) == 0 { 1.0 } else { -1.0 };
+            core::array::from_fn(|j| t[j] + eps * nrm[j])
+        } else {
+            loop {
+                let u: [f64; D] = g.unit();
+                if (0..D).map(|j| u[j] * nrm[j]).sum::<f64>().abs() > 0.05 {
+                    break u;
+                }
+            }
+        };
+        let dir = Direction::new(v).unwrap();
+        let w = dir.get();
+        let reach = match g.below(3) {
+            0 => 0.0,
+            1 => g.range(0.0, 3.0) * r,
+            _ => 10f64.powf(g.range(0.0, 3.0)),
+        };
+        let p: [f64; D] = core::array::from_fn(|j| c[j] + r * nrm[j] - reach * w[j]);
+        let q = exact_q(&p, &c);
+        let Some((tm, tp)) = exact_roots(&q, &w, r) else {
+            continue;
+        };
+        // The root nearest `reach` (where the boundary point is).
+        let (tmf, tpf) = (tm.to_f64(), tp.to_f64());
+        let (tb, exit) = if (tmf - reach).abs() <= (tpf - reach).abs() {
+            (tmf, false)
+        } else {
+            (tpf, true)
+        };
+        let ulp = |x: f64| f64::from_bits(x.abs().to_bits() + 1) - x.abs();
+        let len = (2.0 * r * 10f64.powf(-g.range(0.0, 15.0))).max(16.0 * ulp(tb));
+        let kind = if grazing { 4 } else { g.below(4) as usize };
+        let k = g.below(3) as f64 - 1.0; // −1, 0, +1 ulp
+        let (t0, t1) = match kind {
+            1 => {
+                let t1 = tb + k * ulp(tb);
+                (t1 - len, t1)
+            }
+            2 => {
+                let t0 = tb + k * ulp(tb);
+                (t0, t0 + len)
+            }
+            3 => {
+                // Inside, a gap of 10^{−U(0,3)}·len from the boundary.
+                let gap = len * 10f64.powf(-g.range(0.0, 3.0));
+                if exit {
+                    (tb - gap - len, tb - gap)
+                } else {
+                    (tb + gap, tb + gap + len)
+                }
+            }
+            _ => {
+                let t0 = tb - g.f() * len;
+                (t0, t0 + len)
+            }
+        };
+        let got = ball.segment_free(&p, &dir, t0, t1);
+        let (want, sd) = exact_chord(&q, &w, r, t0, t1);
+        let full = Dy::f(t1).sub(&Dy::f(t0));
+        // Distance of the ends inside the boundary (exact).
+        let gap = Dy::f(t0).sub(&tm).min(tp.sub(&Dy::f(t1))).to_f64();
+        if want.cmp(&full) == std::cmp::Ordering::Equal && gap >= 2f64.powi(-100) * r * r / sd {
+            // Entirely inside, by more than the resolution of the re-based
+            // constant term: the length is the parameter difference, exactly
+            // rounded.
+            inside_exact += 1;
+            assert_eq!(
+                got,
+                t1 - t0,
+                "inside: r={r:e} c={c:?} p={p:?} w={w:?} [{t0:e}, {t1:e}]"
+            );
+        }
+        let err = rel_err_exact(got, &want);
+        let wf = want.to_f64();
+        if wf == 0.0 {
+            assert!(
+                got <= 4.0 * U * (t1 - t0),
+                "{got:e} vs 0: r={r:e} [{t0:e}, {t1:e}]"
+            );
+            continue;
+        }
+        counts[kind] += 1;
+        let bound = chord_bound(r, wf, sd);
+        if bound <= 1e-14 {
+            assert!(
+                err <= 1e-13,
+                "{}: rel err {err:e}: r={r:e} c={c:?} p={p:?} w={w:?} [{t0:e}, {t1:e}] got {got:e} want {wf:e}",
+                KINDS[kind]
+            );
+            worst = worst.max(err);
+            strict += 1;
+        } else {
+            assert!(
+                err <= bound,
+                "{}: rel err {err:e} > bound {bound:e}: r={r:e} p={p:?} w={w:?} [{t0:e}, {t1:e}]",
+                KINDS[kind]
+            );
+            worst_ratio = worst_ratio.max(err / bound);
+        }
+    }
+    eprintln!(
+        "{D}D boundary segments {counts:?} (straddle, end, start, inside, grazing), {inside_exact} inside exactly: worst relative error {worst:.2e} over the {strict} with bound ≤ 1e-14, worst error/bound {worst_ratio:.2e} elsewhere"
+    );
+    (worst, worst_ratio)
+}
+
+#[test]
+fn short_segments_at_the_boundary_are_relatively_exact_2d() {
+    let (worst, ratio) = boundary_cases::<2>(0x5eed_0002, 20_000);
+    assert!(worst <= 1e-13 && ratio <= 1.0);
+}
+
+#[test]
+fn short_segments_at_the_boundary_are_relatively_exact_3d() {
+    let (worst, ratio) = boundary_cases::<3>(0x5eed_0003, 20_000);
+    assert!(worst <= 1e-13 && ratio <= 1.0);
+}
+
+/// The exact integral of the periodised indicator along the wrapped segment
+/// `s + tω`, `t ∈ [−λ/2, λ/2]`: the sum over every image `c + n` the
+/// segment can reach of the exact clipped chord.
+fn exact_torus<const D: usize>(ball: &Ball<D>, s: &[f64; D], w: &[f64; D], len: f64) -> Dy {
+    let (c, r) = (ball.centre(), ball.radius());
+    let half = 0.5 * len;
+    let mut lo = [0i64; D];
+    let mut hi = [0i64; D];
+    for j in 0..D {
+        let (a, b) = (s[j] - half * w[j], s[j] + half * w[j]);
+        let (a, b) = (a.min(b), a.max(b));
+        lo[j] = (a - c[j] - r).floor() as i64 - 1;
+        hi[j] = (b - c[j] + r).ceil() as i64 + 1;
+    }
+    let mut sum = Dy::zero();
+    let mut n = lo;
+    loop {
+        let q: [Dy; D] =
+            core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(n[j] as f64)));
+        sum = sum.add(&exact_chord(&q, w, r, -half, half).0);
+        let mut j = 0;
+        loop {
+            if j == D {
+                return sum;
+            }
+            n[j] += 1;
+            if n[j] <= hi[j] {
+                break;
+            }
+            n[j] = lo[j];
+            j += 1;
+        }
+    }
+}
+
+/// Short wrapped segments (`λ = 2r·10^{−U(0,13)}`) that cross a cell face
+/// where the ball's boundary crosses it: the sphere meets the face `x_0 = 0` (the centre is within `r`
+/// of it), the segment centre is a boundary point on (or within `10⁻¹⁷` of,
+/// or one period or `10³` periods away from) that face, so the segment is
+/// split into pieces exactly where the chord is clipped.
+fn torus_cases<const D: usize>(seed: u64, n: usize) -> f64 {
+    let mut g = Mix(seed);
+    let mut worst = 0.0f64;
+    for _ in 0..n {
+        // Radii 1e-9 … 1/2 (below, the cell coordinates' ulp ~1e-16 no longer
+        // resolves the boundary point).
+        let r = 10f64.powf(g.range(-9.0, 0.5f64.log10()));
+        let mut c: [f64; D] = core::array::from_fn(|_| g.f());
+        c[0] = g.f() * r; // the sphere crosses x_0 = 0 (and its image, x_0 = 1)
+        let ball = Ball::<D>::new(c, r).unwrap();
+        // A boundary point X on the face: X_0 = 0, |X − c| = r.
+        let mut u: [f64; D] = g.unit();
+        u[0] = 0.0;
+        let un = u.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let rho = (r * r - c[0] * c[0]).sqrt();
+        let mut s: [f64; D] = core::array::from_fn(|j| c[j] + rho * u[j] / un);
+        s[0] = match g.below(6) {
+            0 => 0.0,
+            1 => -1e-17,
+            2 => 1e-17,
+            3 => 1.0,
+            4 => -1.0 + 1e-17,
+            _ => 1e3,
+        };
+        let v: [f64; D] = loop {
+            let v: [f64; D] = g.unit();
+            if v[0].abs() > 0.05 {
+                break v;
+            }
+        };
+        let dir = Direction::new(v).unwrap();
+        let len = 2.0 * r * 10f64.powf(-g.range(0.0, 13.0));
+        let seg = Segment::new(s, dir, len).unwrap();
+        let got = ball.segment_integral(&seg);
+        let want = exact_torus(&ball, &seg.centre(), &dir.get(), seg.length());
+        let err = rel_err_exact(got, &want);
+        if want.signum() == 0 {
+            assert!(
+                got <= 4.0 * U * len,
+                "{got:e} vs 0: r={r:e} c={c:?} s={s:?} λ={len:e}"
+            );
+            continue;
+        }
+        assert!(
+            err <= 1e-13,
+            "torus: rel err {err:e}: r={r:e} c={c:?} s={s:?} w={:?} λ={len:e}: got {got:e} want {:e}",
+            dir.get(),
+            want.to_f64()
+        );
+        worst = worst.max(err);
+    }
+    worst
+}
+
+#[test]
+fn short_wrapped_segments_across_faces_and_the_boundary() {
+    let w2 = torus_cases::<2>(0x7045_0002, 3000);
+    let w3 = torus_cases::<3>(0x7045_0003, 3000);
+    eprintln!(
+        "wrapped boundary segments across a face: worst relative error 2D {w2:.2e}, 3D {w3:.2e}"
+    );
 }

@@ -4,13 +4,18 @@
 
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
-use crate::geom::Direction;
-use crate::num::frac;
-use crate::num::lane::{load8, store8, F32Lane as Lane, LANES};
-use crate::num::{two_prod, two_sum, Dd};
-use crate::primitive::Rays32;
+use crate::geom::{for_each_piece, Direction};
+use crate::num::lane::{load8, store8, F32Lane, LANES};
+use crate::num::{frac, two_prod, two_sum, Dd};
+use crate::primitive::{Rays32, Segment};
 use core::f64::consts::PI;
 use wide::f32x8;
+
+/// Unit roundoff `u = 2⁻⁵³`.
+const EPS: f64 = f64::EPSILON / 2.0;
+
+/// `2⁻⁹⁶` (the conditioning margin of the clipped chord, see `chord`).
+const TWO_M96: f64 = f64::from_bits((1023 - 96) << 52);
 
 /// `2π` as a double-double.
 const TWO_PI: Dd = Dd {
@@ -33,7 +38,7 @@ const TWO_PI: Dd = Dd {
 /// `t± = (−b ± √Δ)/a` with `b = q·ω`, `Δ = b² − a(|q|² − r²)`, and the chord is
 /// `2√Δ/a`. In `f64` the subtraction in `Δ` cancels catastrophically for tangent
 /// and grazing lines (`Δ → 0` while `b²` and `a|q|²` stay of order `|q|²`), so
-/// [`Ball::segment_free`] evaluates `Δ` in double-double ([`crate::geom::dd`]):
+/// [`Ball::segment_free`] evaluates `Δ` in double-double ([`crate::num::dd`]):
 ///
 /// 1. `q = p − c` exactly (`Dd::diff`);
 /// 2. the origin is moved along the line to (nearly) the foot of the
@@ -42,16 +47,33 @@ const TWO_PI: Dd = Dd {
 ///    its result, `u = 2⁻⁵³`), so that `|q'| ≈ dist(c, line)`;
 /// 3. `Δ = b'² − a(|q'|² − r²)` in double-double, where now the only
 ///    cancellation is `|q'|²` against `r²`, harmless at `2⁻¹⁰⁴` precision;
-/// 4. `√Δ` is rounded once more by a Newton step, and `t± = τ − b'/a ± √Δ/a`.
+/// 4. `√Δ` is rounded once more by a Newton step, and `t± = τ − b'/a ± √Δ/a`;
+/// 5. an end `e ∈ {t0, t1}` within rounding distance of the chord is never
+///    subtracted from a rounded root: the quadratic is re-based at it,
+///    `a s² + 2b_e s + c_e = 0` for `s = t − e`, with `q_e = q + eω`,
+///    `b_e = q_e·ω` and `c_e = |q_e|² − r²` in double-double (exact products),
+///    and its roots taken from the cancellation-free pair
+///    `s₁ = −(b_e + sign(b_e)√Δ)/a`, `s₂ = c_e/(a s₁)`, so a root next to the
+///    end (`c_e → 0`) keeps its relative accuracy. The clipped length is then
+///    one such quantity: `t1 − t0` (both ends inside), `t+ − t0` (exits inside),
+///    `t1 − t−` (enters inside) or `2h` (whole chord), never a difference of
+///    two rounded parameters.
 ///
 /// The result is the exact chord of the given `f64` inputs up to a **relative**
 /// error of a few ulp (about `3u + 2⁻¹⁰⁴/(1 − d/r)` for a line at distance `d`
 /// from the centre, i.e. a few ulp down to `1 − d/r ≈ 10⁻³⁰`) when the segment
-/// ends do not cut the chord, and an **absolute** error of about
-/// `2u·(|t0| + |t1| + |t−| + |t+|)` when they do (the clipped length is a
-/// difference of two parameters). The domain is `|p − c| ≲ 10¹⁵⁰` and
-/// `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so the squares neither
-/// overflow nor underflow.
+/// ends do not cut the chord. When they do, the relative error is at most
+/// `8u + 2⁻¹⁰⁰·(r²/(L·h) + r²/h²)` for a clipped length `L` and half chord
+/// `h`, so `≤ 1e−13` for segments that straddle, end at or lie next to the
+/// boundary whenever `r²/(L·h) ≤ 10¹⁶` and `h ≥ 10⁻⁸r` (e.g. any `L ≥ 10⁻¹⁵r`
+/// crossing with `h ≥ r/10`, or `L ≥ 10⁻¹²r` with `h ≥ 10⁻⁴r`); the two terms
+/// are the conditioning of a grazing crossing and of a near-tangent chord in
+/// double-double. A segment whose ends are inside by more than `2⁻¹⁰⁰r²/h`
+/// has length exactly `fl(t1 − t0)`. (Tested against exact dyadic arithmetic
+/// over radii `10⁻¹⁰⁰ … 1/2` in 2D and 3D: measured `≤ 3.3e−16` where the
+/// bound is `≤ 1e−14`, and `≤ 0.03×` the bound elsewhere.) The domain is
+/// `|p − c| ≲ 10¹⁵⁰` and `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so
+/// the squares neither overflow nor underflow.
 ///
 /// The `f32` batch path ([`Ball::segment_free_batch_f32`], one kernel generic
 /// over the crate's `f32` lane type) uses the plain formula in `f32` with a
@@ -215,9 +237,72 @@ impl<const D: usize> Ball<D> {
         }
     }
 
+    /// [`Integrand::piece_integral`] with the offset `q0 = p − c` of the
+    /// piece origin `p` from the centre given exactly (the origin itself is
+    /// only used to select the images).
+    fn piece_chords(
+        &self,
+        p: &[f64; D],
+        q0: &[Dd; D],
+        dir: &Direction<D>,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
+        if !(t1 > t0) {
+            return 0.0;
+        }
+        let w = dir.get();
+        let a = norm2(&w);
+        let r = self.radius;
+        // Bounding box of the piece, clamped to the unit cell (where the piece
+        // lies by contract; also covers infinite parameters).
+        let mut lo = [0.0; D];
+        let mut hi = [1.0; D];
+        for j in 0..D {
+            let (u, v) = (p[j] + t0 * w[j], p[j] + t1 * w[j]);
+            let (u, v) = if u <= v { (u, v) } else { (v, u) };
+            if u.is_finite() && v.is_finite() {
+                lo[j] = u.clamp(0.0, 1.0);
+                hi[j] = v.clamp(0.0, 1.0);
+            }
+        }
+        // Per-axis distance from c_j + n_j to [lo_j, hi_j], shrunk by a margin
+        // that covers its rounding, so no reaching image is ever dropped.
+        let mut dist2 = [[0.0f64; 3]; D];
+        for j in 0..D {
+            for (m, n) in [-1.0f64, 0.0, 1.0].into_iter().enumerate() {
+                let x = self.centre[j] + n;
+                let d = (lo[j] - x).max(x - hi[j]).max(0.0);
+                let d = (d - 4e-16).max(0.0);
+                dist2[j][m] = d * d;
+            }
+        }
+        let r2 = r * r * (1.0 + 1e-12);
+        let mut sum = 0.0;
+        let total = if D == 2 { 9 } else { 27 };
+        for idx in 0..total {
+            let mut m = idx;
+            let mut dd = 0.0;
+            let mut q = *q0;
+            for j in 0..D {
+                let mj = m % 3;
+                m /= 3;
+                dd += dist2[j][mj];
+                if mj != 1 {
+                    // q = p − (c + n), n = mj − 1
+                    q[j] = q[j].add(Dd::new(1.0 - mj as f64));
+                }
+            }
+            if dd < r2 {
+                sum += chord(&q, &w, a, self.r2, t0, t1);
+            }
+        }
+        sum
+    }
+
     /// The `f32` chord kernel shared by the scalar twin and the SIMD batch.
     #[inline(always)]
-    fn chord_lanes<L: Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+    fn chord_lanes<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
         let zero = L::splat(0.0);
         let mut q = [zero; D];
         for j in 0..D {
@@ -246,22 +331,16 @@ impl<const D: usize> Ball<D> {
     }
 }
 
-/// `√(x.hi + x.lo)` for `x > 0`, with one Newton correction (error about one ulp).
-#[inline]
-fn dd_sqrt(x: Dd) -> f64 {
-    let s = libm::sqrt(x.hi);
-    let (p, pe) = two_prod(s, s);
-    s + (((x.hi - p) - pe) + x.lo) / (2.0 * s)
-}
-
 /// Chord of the free-space ball `|y| < r` (`r² = r2`) with the line
 /// `q + tω`, `t ∈ [t0, t1]`; `q` exact in double-double, `a = |ω|²`. See the
 /// module docs for the algorithm and its error.
 #[inline]
 fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: f64) -> f64 {
     let mut bh = 0.0;
+    let mut qn = 0.0;
     for j in 0..D {
         bh += q[j].hi * w[j];
+        qn += q[j].hi.abs();
     }
     // Re-base at (nearly) the foot of the perpendicular: exact shift by τ.
     let tau = -bh / a.hi;
@@ -271,9 +350,12 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         qp[j] = q[j].add(Dd::prod(tau, w[j]));
         d2 += qp[j].hi * qp[j].hi;
     }
-    // Quick, safe rejection (d2 is within a few ulp of the exact |q'|², and
-    // |q'|² ≥ dist²); also rejects NaN from overflowing inputs.
-    if !(d2 <= r2.hi * (1.0 + 1e-12)) {
+    // Quick, safe rejection: d2 is within a few ulp of the exact |q'|², and
+    // |q'|² = dist² + a(τ − τ*)² with |τ − τ*| ≤ (D + 2)u|q| (τ* the exact
+    // foot), which matters when r ≲ u|q| (a tiny ball seen from afar, whose
+    // chords were once all rejected). Also rejects NaN from overflowing inputs.
+    let slack = 8.0 * EPS * qn;
+    if !(d2 <= r2.hi * (1.0 + 1e-12) + slack * slack) {
         return 0.0;
     }
     let mut b = Dd::new(0.0);
@@ -287,16 +369,92 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         return 0.0;
     }
     let af = a.to_f64();
-    let h = dd_sqrt(delta) / af;
+    let sd = delta.sqrt().hi;
+    let h = sd / af;
     let tm = tau - b.to_f64() / af;
     let (lo, hi) = (tm - h, tm + h);
-    if t0 <= lo && hi <= t1 {
-        // Unclipped; still never longer than the segment itself (when
+    // A bound on |lo − t−| and |hi − t+| (t± the exact roots): the roundings of
+    // τ, b/a, t_m and t_m ± h, and the conditioning of h (its absolute error is
+    // ≈ 2⁻¹⁰⁴·r²/h, from Δ's). An end farther than `m` from both roots is on a
+    // known side of each, so only an end within `m` needs the re-based roots.
+    let m = 8.0 * EPS * (tau.abs() + tm.abs() + h) + TWO_M96 * (r2.hi / h);
+    if t0 + m < lo && hi + m < t1 {
+        // Clearly unclipped; still never longer than the segment itself (when
         // `tm ± h` round onto a zero-length segment far out on the line, found
         // by fuzzing).
         return (2.0 * h).min(t1 - t0);
     }
-    (t1.min(hi) - t0.max(lo)).max(0.0)
+    // A NaN end is unbounded on its side.
+    let t0 = if t0.is_nan() { f64::NEG_INFINITY } else { t0 };
+    let t1 = if t1.is_nan() { f64::INFINITY } else { t1 };
+    if !(t0 <= t1) || t1 + m < lo || hi + m < t0 {
+        return 0.0;
+    }
+    // The clipped length, each case one accurately computed quantity (no
+    // rounded root minus an end). With s± = t± − t0 and u± = t± − t1, the
+    // roots of the quadratic re-based at each end (`rebased_roots`; an end
+    // farther than `m` from the chord has known signs), and T = fl(t1 − t0):
+    //   s− ≤ 0 ≤ u+ (both ends inside):  T,
+    //   s− ≤ 0, u+ < 0 (exits inside):    min(T, s+),
+    //   s− > 0 (enters inside):           min(T, −u−, 2h)   (−u− = T − s−).
+    // The signs of s−, u+ are those of the re-based constant terms c_e, whose
+    // double-double error is ≈ 2⁻¹⁰²|q_e|², so an end inside the boundary by
+    // more than ≈ 2⁻¹⁰⁰r²/h (far below 1 ulp of e unless e ≈ 0) keeps T.
+    let len = t1 - t0;
+    let (sm, sp) = if lo <= t0 + m {
+        rebased_roots(q, w, r2, af, sd, t0)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    };
+    let (um, up) = if t1 <= hi + m {
+        rebased_roots(q, w, r2, af, sd, t1)
+    } else {
+        (f64::NEG_INFINITY, f64::NEG_INFINITY)
+    };
+    if sm <= 0.0 {
+        if !(sp > 0.0) {
+            return 0.0;
+        }
+        if up >= 0.0 {
+            return len;
+        }
+        return len.min(sp);
+    }
+    len.min(-um).min(2.0 * h).max(0.0)
+}
+
+/// The roots `(s−, s+)`, `s = t − e`, of the chord's quadratic re-based at the
+/// finite end `e`: `a s² + 2 b_e s + c_e = 0` with `q_e = q + eω` (exact
+/// products, ≈ 2⁻¹⁰⁴-relative sums), `b_e = q_e·ω`, `c_e = |q_e|² − r²` in
+/// double-double and `√Δ = sd` (`Δ = b_e² − a c_e` is independent of `e`; the
+/// caller's is computed where it does not cancel). The root of larger
+/// magnitude is `−(b_e + sign(b_e)√Δ)/a` (no cancellation), the other `c_e`
+/// over that numerator (the product of the roots is `c_e/a`), so a root near
+/// the end (`c_e → 0`) keeps its relative accuracy.
+#[inline]
+fn rebased_roots<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    r2: Dd,
+    af: f64,
+    sd: f64,
+    e: f64,
+) -> (f64, f64) {
+    let mut b = Dd::new(0.0);
+    let mut c = Dd::new(0.0);
+    for j in 0..D {
+        let qe = q[j].add(Dd::prod(e, w[j]));
+        b = b.add(qe.mul(Dd::new(w[j])));
+        c = c.add(qe.mul(qe));
+    }
+    let (b, c) = (b.to_f64(), c.sub(r2).to_f64());
+    if b >= 0.0 {
+        let k = -(b + sd);
+        (k / af, c / k)
+    } else {
+        let k = sd - b;
+        (c / k, k / af)
+    }
 }
 
 /// `|ω|²` in double-double.
@@ -326,8 +484,9 @@ impl<const D: usize> Integrand<D> for Ball<D> {
 
     /// The chord `max(0, min(t1, t+) − max(t0, t−))`, in double-double: relative
     /// error of a few ulp for an unclipped chord (including tangent and grazing
-    /// lines), absolute error `≈ 2u·(|t0| + |t1| + |t±|)` when the ends clip it.
-    /// See [`Ball`] (numerics).
+    /// lines), and relative error `≤ 8u + 2⁻¹⁰⁰·(r²/(L·h) + r²/h²)` (`L` the
+    /// clipped length, `h` the half chord) when the ends clip it, i.e. a few ulp
+    /// for short segments at the boundary too. See [`Ball`] (numerics).
     ///
     /// Bad input (no panic): `t0 > t1` gives 0; a NaN or infinite `p`, or a
     /// line so far away that the squares overflow, gives 0; a NaN end is
@@ -426,59 +585,45 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// formed in double-double, so each chord has the error of
     /// [`Ball::segment_free`].
     fn piece_integral(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
-        if !(t1 > t0) {
-            return 0.0;
-        }
-        let w = dir.get();
-        let a = norm2(&w);
-        let r = self.radius;
-        // Bounding box of the piece, clamped to the unit cell (where the piece
-        // lies by contract; also covers infinite parameters).
-        let mut lo = [0.0; D];
-        let mut hi = [1.0; D];
-        for j in 0..D {
-            let (u, v) = (p[j] + t0 * w[j], p[j] + t1 * w[j]);
-            let (u, v) = if u <= v { (u, v) } else { (v, u) };
-            if u.is_finite() && v.is_finite() {
-                lo[j] = u.clamp(0.0, 1.0);
-                hi[j] = v.clamp(0.0, 1.0);
-            }
-        }
-        // Per-axis distance from c_j + n_j to [lo_j, hi_j], shrunk by a margin
-        // that covers its rounding, so no reaching image is ever dropped.
-        let mut dist2 = [[0.0f64; 3]; D];
-        for j in 0..D {
-            for (m, n) in [-1.0f64, 0.0, 1.0].into_iter().enumerate() {
-                let x = self.centre[j] + n;
-                let d = (lo[j] - x).max(x - hi[j]).max(0.0);
-                let d = (d - 4e-16).max(0.0);
-                dist2[j][m] = d * d;
-            }
-        }
         let mut q0 = [Dd::new(0.0); D];
         for j in 0..D {
             q0[j] = Dd::diff(p[j], self.centre[j]);
         }
-        let r2 = r * r * (1.0 + 1e-12);
-        let mut sum = 0.0;
-        let total = if D == 2 { 9 } else { 27 };
-        for idx in 0..total {
-            let mut m = idx;
-            let mut dd = 0.0;
-            let mut q = q0;
-            for j in 0..D {
-                let mj = m % 3;
-                m /= 3;
-                dd += dist2[j][mj];
-                if mj != 1 {
-                    // q = p − (c + n), n = mj − 1
-                    q[j] = q[j].add(Dd::new(1.0 - mj as f64));
-                }
-            }
-            if dd < r2 {
-                sum += chord(&q, &w, a, self.r2, t0, t1);
-            }
+        self.piece_chords(p, &q0, dir, t0, t1)
+    }
+
+    /// The wrapped segment integral: the sum of the piece integrals over the
+    /// cells crossed, as the provided method, but with each piece's offset
+    /// from the centre, `c_s − c − k − m` (segment centre `c_s`, `k` the
+    /// integer it is reduced by, `m` the piece's cell), formed exactly in
+    /// double-double instead of from the piece origin `frac(c_s) − m` that
+    /// [`crate::geom::for_each_piece`] rounds. The chords are clipped at the
+    /// pieces' ends, so a rounded origin would shift a clip at the boundary by
+    /// up to `2⁻⁵⁴`, a large relative error for a short segment. Each piece
+    /// then has the error of [`Ball::segment_free`] (see [`Ball`], numerics).
+    fn segment_integral(&self, seg: &Segment<D>) -> f64 {
+        let half = 0.5 * seg.length();
+        if half == 0.0 {
+            return 0.0;
         }
+        let c0 = seg.centre();
+        let mut c = [0.0; D];
+        let mut cq = [Dd::new(0.0); D];
+        for j in 0..D {
+            c[j] = frac(c0[j]);
+            // c0 − c is an integer up to the rounding of `frac` (≤ 2⁻⁵⁴, or
+            // a result rounded to 1 returned as 0).
+            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::round(c0[j] - c[j])));
+        }
+        let dir = seg.dir();
+        let mut sum = 0.0;
+        for_each_piece(&c, &dir, -half, half, |p, a, b| {
+            let mut q0 = cq;
+            for j in 0..D {
+                q0[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+            }
+            sum += self.piece_chords(p, &q0, &dir, a, b);
+        });
         sum
     }
 

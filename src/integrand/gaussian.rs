@@ -20,7 +20,7 @@ use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::{clip_to_unit_box, for_each_piece, Direction};
 use crate::num::frac;
-use crate::num::lane::{load8, store8, F32Lane as Lane, LANES};
+use crate::num::lane::{load8, store8, F32Lane, LANES};
 use crate::num::{frac_centered, sinc_dd};
 use crate::num::{two_prod, Dd};
 use crate::primitive::{Line, Rays32, Segment};
@@ -496,7 +496,7 @@ struct Consts32<const D: usize> {
 /// polynomial (|r| ≤ 0.35: truncation ≤ 6e−9), Horner without FMA. Relative
 /// error ≤ 3e−7.
 #[inline(always)]
-fn exp_neg32<L: Lane>(x: L) -> L {
+fn exp_neg32<L: F32Lane>(x: L) -> L {
     let under = x.lt(L::splat(-87.0));
     let xc = x.max(L::splat(-87.0));
     let n = (xc * L::splat(core::f32::consts::LOG2_E) + L::splat(0.5)).floor();
@@ -519,7 +519,7 @@ fn exp_neg32<L: Lane>(x: L) -> L {
 /// Absolute error ≤ 1.2e−8 in exact arithmetic, ≤ 3e−7 with `f32` rounding
 /// (measured). `±∞ ↦ ±1`.
 #[inline(always)]
-fn erf32<L: Lane>(x: L) -> L {
+fn erf32<L: F32Lane>(x: L) -> L {
     let ax = x.abs();
     let t = L::splat(1.0) / (L::splat(1.0) + L::splat(0.4) * ax);
     let mut p = L::splat(-0.179_589_42);
@@ -536,7 +536,7 @@ fn erf32<L: Lane>(x: L) -> L {
 
 /// The one `f32` kernel behind [`Integrand::segment_free_f32`] and the batch.
 #[inline(always)]
-fn kernel32<L: Lane, const D: usize>(k: &Consts32<D>, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+fn kernel32<L: F32Lane, const D: usize>(k: &Consts32<D>, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
     let mut q = [L::splat(0.0); D];
     for j in 0..D {
         q[j] = (o[j] - L::splat(k.c_hi[j])) - L::splat(k.c_lo[j]);
