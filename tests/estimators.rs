@@ -454,6 +454,37 @@ fn assert_uniform_ks(what: &str, mut u: Vec<f64>) {
     );
 }
 
+/// Pearson χ² test of independence-and-uniformity of `(z, azimuth)` of 3D
+/// directions on a `B × B` grid of equal-area cells (`z` bins × azimuth bins;
+/// equal area by Archimedes), `B² − 1` degrees of freedom, rejecting at
+/// p < 1e-6: the critical value is the Wilson–Hilferty approximation
+/// `k(1 − 2/(9k) + 4.753·√(2/(9k)))³` (4.753 = upper 1e-6 normal quantile),
+/// 131.8 for k = 63. One χ² check. Catches an azimuth that depends on `z`
+/// with uniform marginals, which the marginal KS tests cannot.
+fn assert_sphere_cells_chi2(what: &str, ws: &[[f64; 3]]) {
+    const B: usize = 8;
+    let mut count = [[0u32; B]; B];
+    for w in ws {
+        let i = ((0.5 * (w[2] + 1.0) * B as f64) as usize).min(B - 1);
+        let j = ((turn(w[0], w[1]) * B as f64) as usize).min(B - 1);
+        count[i][j] += 1;
+    }
+    let e = ws.len() as f64 / (B * B) as f64;
+    let chi2: f64 = count
+        .iter()
+        .flatten()
+        .map(|&c| (f64::from(c) - e).powi(2) / e)
+        .sum();
+    let k = (B * B - 1) as f64;
+    let h = 2.0 / (9.0 * k);
+    let crit = k * (1.0 - h + 4.753 * h.sqrt()).powi(3);
+    println!("{what}: χ² = {chi2:.1} on {k} df (reject > {crit:.1})");
+    assert!(
+        chi2 <= crit,
+        "{what}: (z, azimuth) not uniform, χ² = {chi2:.1} > {crit:.1}"
+    );
+}
+
 /// Angle of `(x, y)` as a fraction of the full turn, in `[0, 1]`.
 fn turn(x: f64, y: f64) -> f64 {
     (y.atan2(x) / core::f64::consts::TAU).rem_euclid(1.0)
@@ -502,8 +533,9 @@ fn random_directions_are_uniform_on_the_circle() {
 /// S² has `z` uniform on [−1, 1] and the azimuth uniform on [0, 2π),
 /// independent of each other. KS of `(z + 1)/2` and of the azimuth/2π for
 /// segments and lines (4 KS checks), and of the azimuth on each hemisphere
-/// (4 more: catches a z-dependent azimuth); 20 000 directions each, so a CDF
-/// distance ≥ 0.019 (hemispheres: ≈ 0.027) is caught.
+/// (4 more), and a χ² of the joint `(z, azimuth)` cell counts (2 more: catches
+/// a z-dependent azimuth with uniform marginals); 20 000 directions each, so a
+/// CDF distance ≥ 0.019 (hemispheres: ≈ 0.027) is caught. 10 checks.
 #[test]
 fn random_directions_are_uniform_on_the_sphere() {
     for (what, ws) in ["segments", "lines"]
@@ -518,6 +550,7 @@ fn random_directions_are_uniform_on_the_sphere() {
             &format!("3D {what}: azimuth"),
             ws.iter().map(|w| turn(w[0], w[1])).collect(),
         );
+        assert_sphere_cells_chi2(&format!("3D {what}: (z, azimuth) cells"), &ws);
         for (h, upper) in [("z > 0", true), ("z < 0", false)] {
             assert_uniform_ks(
                 &format!("3D {what}: azimuth, {h}"),
