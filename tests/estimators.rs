@@ -12,6 +12,9 @@
 
 use std::sync::Mutex;
 
+mod common;
+use common::assert_uniform_ks;
+
 use linesample::estimator::{
     point_estimate_pdf, run_realisations, Directions, Estimator, LineEstimator, PointEstimator,
     SegmentEstimator,
@@ -428,30 +431,6 @@ impl<const D: usize> Integrand<D> for Recorder<D> {
         self.dirs.lock().unwrap().push(line.dir().get());
         0.0
     }
-}
-
-/// Kolmogorov–Smirnov statistic of `u` against U[0, 1) and the test at
-/// p < 1e-6: reject if `(√n + 0.12 + 0.11/√n)·D_n > 2.6934` (Stephens 1970's
-/// finite-n form of the Kolmogorov limit `P(√n D > x) ≈ 2e^{−2x²}`;
-/// `2e^{−2·2.6934²} = 1.0e-6`). One KS check.
-fn assert_uniform_ks(what: &str, mut u: Vec<f64>) {
-    assert!(
-        u.iter().all(|x| (0.0..=1.0).contains(x)),
-        "{what}: out of [0,1]"
-    );
-    u.sort_by(f64::total_cmp);
-    let n = u.len() as f64;
-    let d = u
-        .iter()
-        .enumerate()
-        .map(|(i, &x)| (x - i as f64 / n).max((i as f64 + 1.0) / n - x))
-        .fold(0.0f64, f64::max);
-    let stat = (n.sqrt() + 0.12 + 0.11 / n.sqrt()) * d;
-    println!("{what}: n = {n}, D = {d:.4}, scaled {stat:.3} (reject > 2.693)");
-    assert!(
-        stat <= 2.6934,
-        "{what}: not uniform, KS D = {d} (scaled {stat})"
-    );
 }
 
 /// Pearson χ² test of independence-and-uniformity of `(z, azimuth)` of 3D
