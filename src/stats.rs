@@ -275,7 +275,7 @@ mod tests {
     /// `(n − 3)/(n − 1)` shifts `E[V̂]` by 5.5 % at n = 8 (normal).
     #[test]
     fn variance_standard_error_matches_simulation() {
-        let mut g = Gen(0x5EED_0F_5E);
+        let mut g = Gen(0x5EED_0F5E);
         for (name, mu4) in [("normal", 3.0), ("exponential", 9.0)] {
             // More samples at n = 8, where the (n − 3)/(n − 1) term matters most.
             for (n, reps) in [(8usize, 100_000usize), (50, 20_000)] {
