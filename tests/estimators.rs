@@ -438,7 +438,7 @@ impl<const D: usize> Integrand<D> for Recorder<D> {
 /// equal area by Archimedes), `B² − 1` degrees of freedom, rejecting at
 /// p < 1e-6: the critical value is the Wilson–Hilferty approximation
 /// `k(1 − 2/(9k) + 4.753·√(2/(9k)))³` (4.753 = upper 1e-6 normal quantile),
-/// 131.8 for k = 63. One χ² check. Catches an azimuth that depends on `z`
+/// 131.7 for k = 63. One χ² check. Catches an azimuth that depends on `z`
 /// with uniform marginals, which the marginal KS tests cannot.
 fn assert_sphere_cells_chi2(what: &str, ws: &[[f64; 3]]) {
     const B: usize = 8;
@@ -581,7 +581,7 @@ fn estimates<const D: usize>(
 /// of each `s²` from its fourth moment): |z| ≤ 5. A reused realisation (same
 /// seed for every group) gives `Var_K = Var₁`, i.e. `ln K`. The smallest
 /// pairwise correlation ρ between groups it is sure to catch solves
-/// `ln(1 + (K − 1)ρ) = 5·SE` (printed; ≈ 0.06 for K = 4 at 2000 realisations).
+/// `ln(1 + (K − 1)ρ) = 5·SE` (printed; 0.084 for K = 4 at 2000 realisations; asserted < 0.1).
 ///
 /// Checks: 2 z-checks (segments 2D with the shift, lines 3D without).
 #[test]
