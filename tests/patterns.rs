@@ -8,6 +8,9 @@ use linesample::pattern::{
 use linesample::{PatternError, Seed, SeedError};
 use proptest::prelude::*;
 
+mod common;
+use common::assert_uniform_ks;
+
 fn all<const D: usize>(p: &dyn Pattern<D>, seed: u64) -> Vec<[f32; D]> {
     let mut v = vec![[0.0f32; D]; p.len()];
     p.fill(Seed::new(seed), &mut v).unwrap();
@@ -256,9 +259,15 @@ fn bad_input_is_an_error_naming_the_parameter() {
     assert!(Jittered::<5>::new([1; 5]).is_err());
 
     let msg = |e: PatternError| e.to_string();
-    assert!(msg(PatternError::ZeroPoints).contains('n'));
-    assert!(msg(Jittered::<2>::with_n(10, [3, 3]).unwrap_err()).contains("strata"));
-    assert!(msg(Random::<4>::new(1).unwrap_err()).contains("dims"));
+    // Each message starts with the parameter it is about.
+    assert_eq!(
+        msg(PatternError::ZeroPoints),
+        "n must be at least 1 (got n = 0)"
+    );
+    assert!(msg(Jittered::<2>::with_n(10, [3, 3]).unwrap_err()).starts_with("strata: "));
+    assert!(msg(Jittered::<2>::new([4, 0]).unwrap_err()).starts_with("strata: "));
+    assert!(msg(Random::<4>::new(1).unwrap_err()).starts_with("dims = 4 "));
+    assert!(msg(Random::<2>::new(usize::MAX).unwrap_err()).starts_with("n is too large"));
 
     // wrong output lengths and ranges
     let p = Random::<2>::new(10).unwrap();
@@ -271,7 +280,7 @@ fn bad_input_is_an_error_naming_the_parameter() {
             got: 9
         }
     );
-    assert!(e.to_string().contains("out"));
+    assert_eq!(e.to_string(), "out: length 9, expected 10");
     let mut four = [[0.0f32; 2]; 4];
     assert!(p.fill_range(Seed::new(1), 7, &mut four).is_err());
     assert!(p.fill_range(Seed::new(1), usize::MAX, &mut four).is_err());
@@ -313,7 +322,7 @@ impl rand_core::TryRng for Broken {
 #[test]
 fn seed_sources() {
     assert_eq!(Seed::try_from_rng(&mut Broken), Err(SeedError::Source));
-    assert!(SeedError::Source.to_string().contains("rng"));
+    assert!(SeedError::Source.to_string().starts_with("rng: "));
     let mut pcg = linesample::Pcg32::new(1, 2);
     let a = Seed::try_from_rng(&mut pcg).unwrap();
     let b = Seed::try_from_rng(&mut pcg).unwrap();
@@ -394,20 +403,20 @@ fn l2_discrepancy_matches_theory() {
     ] {
         let want = random_t2(d, 64);
         assert!(
-            (m - want).abs() < 4.0 * se,
+            (m - want).abs() < 5.0 * se,
             "random {d}D: {m} vs {want} ± {se}"
         );
     }
     // Jittered: closed form, two-sided.
     let (m, se) = mean_se(R, disc(&Jittered::<1>::new([64]).unwrap()));
     let w = jittered_t2(&[64]);
-    assert!((m - w).abs() < 4.0 * se, "jittered 1D: {m} vs {w} ± {se}");
+    assert!((m - w).abs() < 5.0 * se, "jittered 1D: {m} vs {w} ± {se}");
     let (m, se) = mean_se(R, disc(&Jittered::<2>::new([8, 8]).unwrap()));
     let w = jittered_t2(&[8, 8]);
-    assert!((m - w).abs() < 4.0 * se, "jittered 2D: {m} vs {w} ± {se}");
+    assert!((m - w).abs() < 5.0 * se, "jittered 2D: {m} vs {w} ± {se}");
     let (m, se) = mean_se(R, disc(&Jittered::<3>::new([4, 4, 4]).unwrap()));
     let w = jittered_t2(&[4, 4, 4]);
-    assert!((m - w).abs() < 4.0 * se, "jittered 3D: {m} vs {w} ± {se}");
+    assert!((m - w).abs() < 5.0 * se, "jittered 3D: {m} vs {w} ± {se}");
     // N-rooks: E[T²] = ∫ Var_LHS(1_[0,t)) dt ≤ N/(N−1) · E[T²_random] (Owen 1997,
     // LHS variance is at most N/(N−1) times the Monte Carlo variance).
     for (d, (m, se)) in [
@@ -415,7 +424,7 @@ fn l2_discrepancy_matches_theory() {
         (3, mean_se(R, disc(&NRooks::<3>::new(64).unwrap()))),
     ] {
         let bound = 64.0 / 63.0 * random_t2(d, 64);
-        assert!(m < bound + 4.0 * se, "n-rooks {d}D: {m} above {bound}");
+        assert!(m < bound + 5.0 * se, "n-rooks {d}D: {m} above {bound}");
     }
     // MJ and CMJ: each point is uniform in its coarse cell as in jittered sampling,
     // plus stratified projections; their expected T² must not exceed jittered's.
@@ -425,7 +434,7 @@ fn l2_discrepancy_matches_theory() {
     ] {
         let (m, se) = mean_se(R, disc(p));
         let w = jittered_t2(&[8, 8]);
-        assert!(m < w + 4.0 * se, "multi-jittered: {m} above jittered {w}");
+        assert!(m < w + 5.0 * se, "multi-jittered: {m} above jittered {w}");
     }
 }
 
@@ -433,13 +442,13 @@ fn l2_discrepancy_matches_theory() {
 fn coordinate_means_match_theory() {
     // One large realisation per sampler; the mean of each coordinate is 1/2 with
     // variance 1/(12N) (random), 1/(12·N·m_j²) (jittered, m_j strata on axis j) and
-    // 1/(12N³) (N strata per axis: N-rooks, MJ, CMJ). Test |mean − 1/2| < 4σ.
+    // 1/(12N³) (N strata per axis: N-rooks, MJ, CMJ). Test |mean − 1/2| < 5σ.
     let n = 4096usize;
     let check = |pts: &[[f32; 2]], sigma: [f64; 2], name: &str| {
         for j in 0..2 {
             let m = pts.iter().map(|p| f64::from(p[j])).sum::<f64>() / pts.len() as f64;
             assert!(
-                (m - 0.5).abs() < 4.0 * sigma[j],
+                (m - 0.5).abs() < 5.0 * sigma[j],
                 "{name} axis {j}: mean {m}, σ {}",
                 sigma[j]
             );
@@ -491,9 +500,9 @@ fn low_discrepancy_sequences_match_theory() {
     // b^t·((b+1)/(b−1))^s·σ²/N, so E[T²] = ∫ Var(1_[0,t)) dt ≤ that factor times
     // E[T²_random]: 9 for dims 0–1 (t = 0, s = 2), 2·27 = 54 for dims 0–2 (t = 1).
     let (m2, se2) = mean_se(R, disc(&Sobol::<2>::new(64).unwrap()));
-    assert!(m2 < 9.0 * random_t2(2, 64) + 4.0 * se2, "sobol 2D: {m2}");
+    assert!(m2 < 9.0 * random_t2(2, 64) + 5.0 * se2, "sobol 2D: {m2}");
     let (m3, se3) = mean_se(R, disc(&Sobol::<3>::new(64).unwrap()));
-    assert!(m3 < 54.0 * random_t2(3, 64) + 4.0 * se3, "sobol 3D: {m3}");
+    assert!(m3 < 54.0 * random_t2(3, 64) + 5.0 * se3, "sobol 3D: {m3}");
     // The nets are much better than the bound: a (0, m, 2)-net has T² = O(log² N/N²).
     // Check the N⁻² order is there at all: T² well below the random value.
     assert!(
@@ -505,7 +514,7 @@ fn low_discrepancy_sequences_match_theory() {
     // one point in each of the 8 × 27 boxes. As a sanity bound, the mean T² must not
     // exceed the i.i.d. value E[T²_random].
     let (mh, seh) = mean_se(R, disc(&Halton::<2>::new(216).unwrap()));
-    assert!(mh < random_t2(2, 216) + 4.0 * seh, "halton 2D: {mh}");
+    assert!(mh < random_t2(2, 216) + 5.0 * seh, "halton 2D: {mh}");
     for dim in 0..3 {
         let (m, se) = mean_se(R, |s| {
             let mut v = vec![[0.0f32; 3]; 100];
@@ -513,7 +522,7 @@ fn low_discrepancy_sequences_match_theory() {
             v.iter().map(|p| f64::from(p[dim])).sum::<f64>() / 100.0
         });
         assert!(
-            (m - 0.5).abs() < 4.0 * se.max(1e-12),
+            (m - 0.5).abs() < 5.0 * se.max(1e-12),
             "halton dim {dim}: mean {m} ± {se}"
         );
         let (m, se) = mean_se(R, |s| {
@@ -522,8 +531,208 @@ fn low_discrepancy_sequences_match_theory() {
             v.iter().map(|p| f64::from(p[dim])).sum::<f64>() / 100.0
         });
         assert!(
-            (m - 0.5).abs() < 4.0 * se.max(1e-12),
+            (m - 0.5).abs() < 5.0 * se.max(1e-12),
             "sobol dim {dim}: mean {m} ± {se}"
         );
+    }
+}
+
+// ------------------------------------------- position inside the strata
+
+/// `frac(x·m)`, the position of coordinate `x` inside its stratum of `m`
+/// (exact: `x` has 24 bits, `m ≤ 2¹²` here, so `x·m` is exact in `f64`).
+fn in_stratum(x: f32, m: usize) -> f64 {
+    let t = f64::from(x) * m as f64;
+    t - t.floor()
+}
+
+/// Pools `frac(x_j·m_j)` over all points of `seeds` realisations, per axis.
+fn stratum_positions<const D: usize>(
+    p: &dyn Pattern<D>,
+    m: [usize; D],
+    seeds: u64,
+) -> [Vec<f64>; D] {
+    let mut out: [Vec<f64>; D] = core::array::from_fn(|_| Vec::new());
+    for seed in 0..seeds {
+        for q in all(p, 0xF00D + seed) {
+            for j in 0..D {
+                out[j].push(in_stratum(q[j], m[j]));
+            }
+        }
+    }
+    out
+}
+
+/// Inside its (finest) stratum every coordinate is uniform: jittered (`m_j`
+/// strata on axis j), N-rooks (N strata per axis), multi-jittered and CMJ
+/// (`cols·rows` fine strata per axis). KS of `frac(x·m)` pooled over the points
+/// of 40 realisations (≥ 10 240 values per axis), per axis, at p < 1e-6
+/// (tests/common: reject `(√n + 0.12 + 0.11/√n)·D > 2.693`): 15 KS checks. A
+/// CDF distance ≥ 0.027 is caught for sure; centred jitter (all positions
+/// 1/2) has D = 1/2, a jitter shared by all points of a realisation has
+/// D ≈ 0.1–0.2 at 40 realisations. The stratification proptests above and the
+/// mean/discrepancy checks below pass for centred jitter; this one does not.
+#[test]
+fn positions_inside_the_strata_are_uniform() {
+    const SEEDS: u64 = 40;
+    let report = |name: &str, per_axis: &[Vec<f64>]| {
+        for (j, u) in per_axis.iter().enumerate() {
+            assert_uniform_ks(&format!("{name} axis {j}: frac(x·m)"), u.clone());
+        }
+    };
+    report(
+        "jittered 1D [256]",
+        &stratum_positions(&Jittered::new([256]).unwrap(), [256], SEEDS),
+    );
+    report(
+        "jittered 2D [16, 24]",
+        &stratum_positions(&Jittered::new([16, 24]).unwrap(), [16, 24], SEEDS),
+    );
+    report(
+        "jittered 3D [8, 4, 8]",
+        &stratum_positions(&Jittered::new([8, 4, 8]).unwrap(), [8, 4, 8], SEEDS),
+    );
+    report(
+        "n-rooks 2D (256)",
+        &stratum_positions(&NRooks::<2>::new(256).unwrap(), [256; 2], SEEDS),
+    );
+    report(
+        "n-rooks 3D (256)",
+        &stratum_positions(&NRooks::<3>::new(256).unwrap(), [256; 3], SEEDS),
+    );
+    report(
+        "multi-jittered 16 × 16",
+        &stratum_positions(&MultiJittered::with_grid(16, 16).unwrap(), [256; 2], SEEDS),
+    );
+    report(
+        "cmj 8 × 32",
+        &stratum_positions(
+            &CorrelatedMultiJittered::with_grid(8, 32).unwrap(),
+            [256; 2],
+            SEEDS,
+        ),
+    );
+}
+
+// ------------------------------------------------ windows near 2^32 points
+
+/// The window `[first, first + len)` by SIMD, scalar and SoA fills and in
+/// uneven pieces: all the same bits, all in `[0, 1)`.
+fn check_window<const D: usize>(
+    p: &dyn Pattern<D>,
+    seed: u64,
+    first: usize,
+    len: usize,
+) -> Vec<[f32; D]> {
+    let s = Seed::new(seed);
+    let mut simd = vec![[0.0f32; D]; len];
+    p.fill_range(s, first, &mut simd).unwrap();
+    let mut scalar = vec![[0.5f32; D]; len];
+    p.fill_range_scalar(s, first, &mut scalar).unwrap();
+    let mut soa: [Vec<f32>; D] = core::array::from_fn(|_| vec![0.25f32; len]);
+    {
+        let slices: [&mut [f32]; D] = soa.each_mut().map(|v| v.as_mut_slice());
+        p.fill_range_soa(s, first, slices).unwrap();
+    }
+    let mut pieces = vec![[0.75f32; D]; len];
+    let (mut at, mut c) = (0, 3);
+    while at < len {
+        let l = c.min(len - at);
+        p.fill_range(s, first + at, &mut pieces[at..at + l])
+            .unwrap();
+        at += l;
+        c = c * 5 % 23 + 1;
+    }
+    for i in 0..len {
+        for j in 0..D {
+            let b = simd[i][j].to_bits();
+            assert_eq!(
+                b,
+                scalar[i][j].to_bits(),
+                "scalar point {} dim {j}",
+                first + i
+            );
+            assert_eq!(b, soa[j][i].to_bits(), "soa point {} dim {j}", first + i);
+            assert_eq!(
+                b,
+                pieces[i][j].to_bits(),
+                "pieces point {} dim {j}",
+                first + i
+            );
+        }
+    }
+    assert!(in_unit(&simd));
+    simd
+}
+
+/// A window start: near the end `end`, near `2^31`, near `2^24` (the f32
+/// integer limit) or anywhere, with room for `len` points before `end`.
+fn window_start(end: u64) -> impl Strategy<Value = u64> {
+    prop_oneof![
+        (end - 600)..=end,
+        ((1u64 << 31) - 300)..((1u64 << 31) + 300),
+        ((1u64 << 24) - 300)..((1u64 << 24) + 300),
+        0..end,
+    ]
+}
+
+const FULL: usize = 1 << 32;
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(32))]
+
+    /// Windows of patterns with the maximal 2^32 points (random; jittered
+    /// 2^16 × 2^16 and 2^11 × 2^11 × 2^10) starting anywhere, in particular
+    /// within 600 points of index 2^32 and around 2^31 and 2^24: all fill
+    /// paths agree, and jittered point k lies in cell k (computed exactly in
+    /// u64 from k).
+    #[test]
+    fn windows_near_two_to_the_32_agree_and_stay_stratified(
+        seed: u64,
+        start in window_start(FULL as u64),
+        len in 1usize..300,
+    ) {
+        let first = (start as usize).min(FULL - len);
+        check_window(&Random::<3>::new(FULL).unwrap(), seed, first, len);
+        let p2 = Jittered::new([1 << 16, 1 << 16]).unwrap();
+        let pts = check_window(&p2, seed, first, len);
+        for (i, q) in pts.iter().enumerate() {
+            let k = (first + i) as u64;
+            prop_assert_eq!(cell(q[0], 1 << 16) as u64, k % (1 << 16), "point {}", k);
+            prop_assert_eq!(cell(q[1], 1 << 16) as u64, k >> 16, "point {}", k);
+        }
+        let m = [1usize << 11, 1 << 11, 1 << 10];
+        let p3 = Jittered::new(m).unwrap();
+        let pts = check_window(&p3, seed, first, len);
+        for (i, q) in pts.iter().enumerate() {
+            let k = first + i;
+            let want = [k % m[0], (k / m[0]) % m[1], k / (m[0] * m[1])];
+            let got = [cell(q[0], m[0]), cell(q[1], m[1]), cell(q[2], m[2])];
+            prop_assert_eq!(got, want, "point {}", k);
+        }
+    }
+
+    /// Windows of the largest N-rooks, MJ and CMJ patterns (2^24 points) near
+    /// their end: the fill paths agree; MJ/CMJ point k lies in coarse cell
+    /// `(k mod cols, k div cols)`.
+    #[test]
+    fn windows_near_the_end_of_fine_patterns_agree(
+        seed: u64,
+        start in window_start(1 << 24),
+        len in 1usize..300,
+    ) {
+        let n = 1usize << 24;
+        let first = (start as usize).min(n - len);
+        check_window(&NRooks::<3>::new(n).unwrap(), seed, first, len);
+        let mj = MultiJittered::with_grid(4096, 4096).unwrap();
+        let cmj = CorrelatedMultiJittered::with_grid(2048, 8192).unwrap();
+        for (p, (cols, rows)) in [(&mj as &dyn Pattern<2>, mj.grid()), (&cmj, cmj.grid())] {
+            let pts = check_window(p, seed, first, len);
+            for (i, q) in pts.iter().enumerate() {
+                let k = first + i;
+                prop_assert_eq!(cell(q[0], cols), k % cols, "point {}", k);
+                prop_assert_eq!(cell(q[1], rows), k / cols, "point {}", k);
+            }
+        }
     }
 }

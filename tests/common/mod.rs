@@ -1,6 +1,7 @@
 //! Shared test references: adaptive Gauss–Kronrod quadrature (G7–K15, Piessens
 //! et al., QUADPACK 1983; nodes and weights from Kronrod 1965 as tabulated there),
-//! written here so the closed forms are checked against an independent method.
+//! written here so the closed forms are checked against an independent method;
+//! and a Kolmogorov–Smirnov test of uniformity at the suite's p < 1e-6 level.
 #![allow(dead_code, clippy::excessive_precision)]
 
 /// Kronrod abscissae `x_k` (positive half; index 1, 3, 5 are the Gauss nodes).
@@ -109,6 +110,30 @@ pub fn rel_err(a: f64, b: f64) -> f64 {
     } else {
         ((a - b) / b).abs()
     }
+}
+
+/// Kolmogorov–Smirnov statistic of `u` against U[0, 1) and the test at
+/// p < 1e-6: reject if `(√n + 0.12 + 0.11/√n)·D_n > 2.6934` (Stephens 1970's
+/// finite-n form of the Kolmogorov limit `P(√n D > x) ≈ 2e^{−2x²}`;
+/// `2e^{−2·2.6934²} = 1.0e-6`). One KS check.
+pub fn assert_uniform_ks(what: &str, mut u: Vec<f64>) {
+    assert!(
+        u.iter().all(|x| (0.0..=1.0).contains(x)),
+        "{what}: out of [0,1]"
+    );
+    u.sort_by(f64::total_cmp);
+    let n = u.len() as f64;
+    let d = u
+        .iter()
+        .enumerate()
+        .map(|(i, &x)| (x - i as f64 / n).max((i as f64 + 1.0) / n - x))
+        .fold(0.0f64, f64::max);
+    let stat = (n.sqrt() + 0.12 + 0.11 / n.sqrt()) * d;
+    println!("{what}: n = {n}, D = {d:.4}, scaled {stat:.3} (reject > 2.693)");
+    assert!(
+        stat <= 2.6934,
+        "{what}: not uniform, KS D = {d} (scaled {stat})"
+    );
 }
 
 #[test]
