@@ -150,11 +150,7 @@ mod exact {
     /// (`4t = q + w`, `|w| ≤ 1/2`) is removed in integers, `θ = w·π/2`.
     pub fn cos_sin_turns(num: i128, s: u32) -> (D2, D2) {
         // 4t = 4·num/2^s; with s ≥ 2 the quadrant split is exact in integers.
-        let (num, s) = if s < 2 {
-            (num << (2 - s), 2)
-        } else {
-            (num, s)
-        };
+        let (num, s) = if s < 2 { (num << (2 - s), 2) } else { (num, s) };
         let quarter = 1i128 << (s - 2);
         let q = (num + quarter / 2).div_euclid(quarter); // round(4t), ties up
         let w = num - q * quarter; // 4t − q = w/2^{s−2}
@@ -322,13 +318,24 @@ fn high_frequencies_stay_exact() {
     let e2 = worst(
         &random_points::<2>(17, 4),
         Grid::<2>::new(700).unwrap(),
-        &[[700, 700], [700, -700], [1, -699], [0, 700], [613, 1], [700, 0]],
+        &[
+            [700, 700],
+            [700, -700],
+            [1, -699],
+            [0, 700],
+            [613, 1],
+            [700, 0],
+        ],
     );
     let k = 1usize << 20;
     let mut rng = Pcg32::new(6, 6);
     let mut cells: Vec<[i32; 1]> = vec![[k as i32], [k as i32 - 1], [1 << 19], [999_999]];
     cells.extend((0..400).map(|_| [(rng.next_u32() % (k as u32 + 1)) as i32]));
-    let e1 = worst(&random_points::<1>(9, 7), Grid::<1>::new(k).unwrap(), &cells);
+    let e1 = worst(
+        &random_points::<1>(9, 7),
+        Grid::<1>::new(k).unwrap(),
+        &cells,
+    );
     println!("max |F − F_exact|/N: 2D to |ν| ≈ 990 {e2:.2e}, 1D to 2²⁰ {e1:.2e}");
     assert!(e2 <= README_POINT_BOUND, "2D: {e2:e}");
     // Beyond the README's |ν| = 10⁴ the Dft docs' bound ~8ε applies.
@@ -839,6 +846,12 @@ fn issue_case_n4096_on_the_639_grid_matches_the_exact_reference() {
     // The README's bound on F, and the bound on P = |F|²/N² it implies:
     // |P − P_exact| ≤ (2|F|·δ + δ²)/N² with |F| ≤ N, δ = √2·4e-16·N (complex).
     let delta = 2f64.sqrt() * README_POINT_BOUND;
-    assert!(worst_f <= README_POINT_BOUND, "max |F − F_exact|/N = {worst_f:e}");
-    assert!(worst_p <= 2.0 * delta + delta * delta, "max |P − P_exact| = {worst_p:e}");
+    assert!(
+        worst_f <= README_POINT_BOUND,
+        "max |F − F_exact|/N = {worst_f:e}"
+    );
+    assert!(
+        worst_p <= 2.0 * delta + delta * delta,
+        "max |P − P_exact| = {worst_p:e}"
+    );
 }
