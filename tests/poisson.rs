@@ -361,6 +361,11 @@ fn n_mode_counts_and_shortfall() {
         eprintln!("for_n({n}, {rel}) 2D {m:?}: counts {counts:?}");
         for &c in &counts {
             let ratio = c as f64 / n as f64;
+            // Judgement windows, not statistical bounds (deterministic for the
+            // seeds): the count of a run fluctuates by about √N·(a few tenths),
+            // ~1 % at N = 1024, and the windows are several of those wide
+            // around the documented typical ratios (1.06–1.08 dart, 0.94–0.98
+            // Bridson), so a sampler that stopped early or overfilled misses them.
             match m {
                 // maximal RSA density in 2D: N·π(r/2)² ≈ 0.547 → ≈ 1.07·N at 0.75
                 PoissonMethod::MaximalDartThrowing => assert!((1.0..1.15).contains(&ratio)),
