@@ -74,7 +74,7 @@ mod exact {
 
     /// `π/2` to 107 bits (the `f64` nearest π/2 and the remainder, which is
     /// `cos(fl(π/2))` to first order).
-    const HALF_PI: D2 = D2(1.570_796_326_794_896_6, 6.123_233_995_736_766e-17);
+    const HALF_PI: D2 = D2(core::f64::consts::FRAC_PI_2, 6.123_233_995_736_766e-17);
 
     /// `x = m·2^e` with an integer `m` (exact for every finite `x`).
     fn parts(x: f64) -> (i128, i32) {

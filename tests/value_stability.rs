@@ -354,8 +354,8 @@ fn pinned_f32_integrand_batches() {
                 d[a][i] = u() - 0.5;
                 norm += d[a][i] * d[a][i];
             }
-            for a in 0..D {
-                d[a][i] /= norm.sqrt();
+            for da in d.iter_mut() {
+                da[i] /= norm.sqrt();
             }
             let (a, b) = (u() - 0.5, u() - 0.5);
             (t0[i], t1[i]) = match i % 5 {
