@@ -2,7 +2,7 @@
 //! dart throwing on a probe grid, range, determinism, the N-points mode and bad
 //! input.
 
-use linesample::pattern::{poisson_max_radius, PoissonDisk, PoissonMethod};
+use linesample::pattern::{poisson_max_radius, PoissonDisk, PoissonMethod, POISSON_MAX_CELLS};
 use linesample::{PatternError, Seed};
 use proptest::prelude::*;
 
@@ -36,6 +36,47 @@ fn min_pair_distance<const D: usize>(pts: &[[f32; D]]) -> f64 {
     m.sqrt()
 }
 
+/// Smallest pairwise toroidal distance from the stored `f32`s in `O(N)`: a hash
+/// grid of cells of side `1/⌊1/r⌋ ≥ r`, so a pair closer than `r` lies in the
+/// same or adjacent cells (brute force when there are fewer than 3 cells per
+/// axis). Returns `min(d_min, r_probe)` resolution: exact below `r`, and any
+/// value `≥ r` means no pair is closer than `r`.
+fn min_pair_distance_below<const D: usize>(pts: &[[f32; D]], r: f64) -> f64 {
+    let g = (1.0 / r).floor();
+    if g < 3.0 || pts.len() < 64 {
+        return min_pair_distance(pts);
+    }
+    let gi = g as i64;
+    let cell = |p: &[f32; D]| -> [i64; D] {
+        core::array::from_fn(|a| ((f64::from(p[a]) * g) as i64).min(gi - 1))
+    };
+    let mut map: std::collections::HashMap<[i64; D], Vec<usize>> = Default::default();
+    for (i, p) in pts.iter().enumerate() {
+        map.entry(cell(p)).or_default().push(i);
+    }
+    let mut m = f64::INFINITY;
+    for (i, p) in pts.iter().enumerate() {
+        let c = cell(p);
+        let a = widen(p);
+        for off in 0..3usize.pow(D as u32) {
+            let mut n = c;
+            let mut o = off;
+            for x in n.iter_mut() {
+                *x = (*x + (o % 3) as i64 - 1).rem_euclid(gi);
+                o /= 3;
+            }
+            if let Some(v) = map.get(&n) {
+                for &k in v {
+                    if k > i {
+                        m = m.min(torus_d2(&a, &pts[k]));
+                    }
+                }
+            }
+        }
+    }
+    m.sqrt()
+}
+
 fn run<const D: usize>(r: f64, method: PoissonMethod, seed: u64) -> Vec<[f32; D]> {
     PoissonDisk::<D>::with_radius(r)
         .unwrap()
@@ -53,31 +94,168 @@ fn check_disk<const D: usize>(r: f64, seed: u64) -> Result<(), TestCaseError> {
             .iter()
             .all(|p| p.iter().all(|&x| (0.0..1.0).contains(&x))));
         if pts.len() > 1 {
-            let d = min_pair_distance(&pts);
+            let d = min_pair_distance_below(&pts, r);
             prop_assert!(d >= r, "{m:?} D={D} r={r} seed={seed}: min distance {d}");
         }
     }
     Ok(())
 }
 
+/// Radii log-uniform in `[lo, hi]` (small radii as likely per decade as large).
+fn log_radius(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
+    (lo.ln()..hi.ln()).prop_map(f64::exp)
+}
+
+/// Cells per axis allowed by [`POISSON_MAX_CELLS`]: the largest `G` with
+/// `G^D ≤ 2²⁶` (2²⁶, 8192, 406 in 1, 2, 3D).
+fn max_grid(d: u32) -> u64 {
+    let mut g = 1u64;
+    while (g + 1).pow(d) <= POISSON_MAX_CELLS {
+        g += 1;
+    }
+    g
+}
+
+/// The grid limit: the smallest radius the sampler accepts is just above
+/// `√D/G` (`g = ⌊√D/r⌋ + 1 ≤ G`), 1.49e-8, 1.73e-4 and 4.28e-3 in 1, 2, 3D.
+fn grid_limit(d: u32) -> f64 {
+    f64::from(d).sqrt() / max_grid(d) as f64
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(16))]
 
-    /// Every pair is at toroidal distance ≥ r (exactly, from the stored f32 values).
+    /// Every pair is at toroidal distance ≥ r (exactly, from the stored f32
+    /// values, with an O(N) neighbour check). Radii log-uniform down to where a
+    /// run has ~10⁵ points (1e-5, 3e-3, 0.04 in 1, 2, 3D: at most ~3 s per case
+    /// in the debug build); from there to the grid limit the runs take minutes
+    /// (~8·10⁶ points at the 1D limit), so that range is the ignored release
+    /// test `min_distance_at_the_grid_limit` and the constructor properties below.
     #[test]
-    fn min_distance_1d(seed in any::<u64>(), r in 0.002f64..0.6) {
+    fn min_distance_1d(seed in any::<u64>(), r in log_radius(1e-5, 0.6)) {
         check_disk::<1>(r, seed)?;
     }
 
     #[test]
-    fn min_distance_2d(seed in any::<u64>(), r in 0.035f64..0.8) {
+    fn min_distance_2d(seed in any::<u64>(), r in log_radius(3e-3, 0.8)) {
         check_disk::<2>(r, seed)?;
     }
 
     #[test]
-    fn min_distance_3d(seed in any::<u64>(), r in 0.09f64..0.95) {
+    fn min_distance_3d(seed in any::<u64>(), r in log_radius(0.04, 0.95)) {
         check_disk::<3>(r, seed)?;
     }
+
+    /// Over every accepted radius, down to the grid limit: the grid, the
+    /// scratch size and the point bound follow their documented formulas, and
+    /// the radius is kept exactly.
+    #[test]
+    fn sizes_follow_the_formulas_down_to_the_grid_limit(
+        u in 0.0f64..1.0,
+        d in 1u32..=3,
+    ) {
+        // r from (1 + 1e-12)·limit to 2, log-uniform.
+        let lo = grid_limit(d) * (1.0 + 1e-12);
+        let r = (lo.ln() + u * (2f64.ln() - lo.ln())).exp();
+        let (g, cells, max_points, scratch, got_r) = match d {
+            1 => sizes::<1>(r),
+            2 => sizes::<2>(r),
+            _ => sizes::<3>(r),
+        };
+        let want_g = ((f64::from(d).sqrt() / r).floor() + 1.0) as u64;
+        prop_assert_eq!(got_r, r);
+        prop_assert_eq!(g as u64, want_g);
+        prop_assert!(want_g <= max_grid(d));
+        prop_assert_eq!(cells, want_g.pow(d));
+        prop_assert_eq!(scratch as u64, u64::from(d) * cells + max_points as u64);
+        // ⌊1/V_D(r/2)⌋ + 1 disjoint disks, at most one point per cell.
+        let h = r / 2.0;
+        let vol = match d {
+            1 => 2.0 * h,
+            2 => core::f64::consts::PI * h * h,
+            _ => 4.0 / 3.0 * core::f64::consts::PI * h * h * h,
+        };
+        let packing = if r <= 1.0 { (1.0 / vol).floor() + 1.0 } else { f64::INFINITY };
+        prop_assert_eq!(max_points as f64, packing.min(cells as f64).max(1.0));
+    }
+}
+
+fn sizes<const D: usize>(r: f64) -> (usize, u64, usize, usize, f64) {
+    let p = PoissonDisk::<D>::with_radius(r).unwrap();
+    let g = p.grid_resolution();
+    (
+        g,
+        (g as u64).pow(D as u32),
+        p.max_points(),
+        p.scratch_len(),
+        p.radius(),
+    )
+}
+
+#[test]
+fn the_grid_limit_is_where_the_constructor_says() {
+    fn check<const D: usize>() {
+        let d = D as u32;
+        let lim = grid_limit(d);
+        let above = PoissonDisk::<D>::with_radius(lim * (1.0 + 1e-12)).unwrap();
+        assert_eq!(above.grid_resolution() as u64, max_grid(d), "D = {D}");
+        assert!(matches!(
+            PoissonDisk::<D>::with_radius(lim * (1.0 - 1e-12)),
+            Err(PatternError::GridTooLarge {
+                max: POISSON_MAX_CELLS,
+                ..
+            })
+        ));
+    }
+    check::<1>();
+    check::<2>();
+    check::<3>();
+}
+
+/// Release only (minutes in debug): runs at the grid limit itself, where the
+/// grid has ~2²⁶ cells and, in 1D, the cell width 2⁻²⁶ is finer than the `f32`
+/// spacing near 1 (2⁻²⁴): every pair is still ≥ r apart in the stored values.
+#[test]
+#[ignore = "release: cargo test --release --test poisson -- --ignored; fails today: 1D Bridson at \
+            r < 2⁻²⁴ can stop after one point (f32 rounding), see the density check"]
+fn min_distance_at_the_grid_limit() {
+    fn check<const D: usize>() {
+        let r = grid_limit(D as u32) * (1.0 + 1e-12);
+        for m in METHODS {
+            let t = std::time::Instant::now();
+            let pts = run::<D>(r, m, 7);
+            let d = min_pair_distance_below(&pts, r);
+            println!(
+                "D = {D}, r = {r:.3e}, {m:?}: {} points, min distance / r = {:.6} ({:.1?})",
+                pts.len(),
+                d / r,
+                t.elapsed()
+            );
+            assert!(d >= r, "{m:?} D = {D}: min distance {d:e} < r = {r:e}");
+            // Not a stall: a run covers the torus. In 1D half the packing
+            // bound 1/r, capped at 2²² (half of the 2²³ f32 values in [1/2, 1),
+            // which limit a 1D set at this radius: a good run from seed 1 has
+            // 8.39·10⁶ points); in 2D/3D a tenth of max_points.
+            // Fails today in 1D (seed 7: Bridson stops after 1 point, since
+            // every candidate rounds to within r of the first f32 point).
+            let want = if D == 1 {
+                (0.5 / r).min(f64::from(1u32 << 22)) as usize
+            } else {
+                PoissonDisk::<D>::with_radius(r).unwrap().max_points() / 10
+            };
+            assert!(
+                pts.len() >= want,
+                "{m:?} D = {D}: {} points, want ≥ {want}",
+                pts.len()
+            );
+            assert!(pts
+                .iter()
+                .all(|p| p.iter().all(|&x| (0.0..1.0).contains(&x))));
+        }
+    }
+    check::<1>();
+    check::<2>();
+    check::<3>();
 }
 
 /// Probes on the lattice `(i + ½)·h`, `h = 1/m`, and the largest distance from a
@@ -200,6 +378,11 @@ fn n_mode_counts_and_shortfall() {
         eprintln!("for_n({n}, {rel}) 2D {m:?}: counts {counts:?}");
         for &c in &counts {
             let ratio = c as f64 / n as f64;
+            // Judgement windows, not statistical bounds (deterministic for the
+            // seeds): the count of a run fluctuates by about √N·(a few tenths),
+            // ~1 % at N = 1024, and the windows are several of those wide
+            // around the documented typical ratios (1.06–1.08 dart, 0.94–0.98
+            // Bridson), so a sampler that stopped early or overfilled misses them.
             match m {
                 // maximal RSA density in 2D: N·π(r/2)² ≈ 0.547 → ≈ 1.07·N at 0.75
                 PoissonMethod::MaximalDartThrowing => assert!((1.0..1.15).contains(&ratio)),
@@ -343,7 +526,14 @@ fn bad_input() {
         ),
         (PatternError::Shortfall { got: 1, wanted: 2 }, "n"),
     ] {
-        assert!(e.to_string().contains(word), "{e}");
+        // The parameter name leads the message as a word of its own (a bare
+        // `contains("n")` would hold for almost any English sentence).
+        let msg = e.to_string();
+        assert!(
+            msg.strip_prefix(word)
+                .is_some_and(|rest| rest.starts_with([' ', ':'])),
+            "{e}"
+        );
     }
     // fewer candidates still give a valid set
     let v = p

@@ -10,11 +10,27 @@
 //! (`⟨N·P⟩ = 1`), its size known exactly by Parseval: `Σ_{ν≠0}|f̂|² = ∫f² −
 //! (∫f)²`.
 //!
+//! The prediction under test is the kernel's `Periodogram::predict_variance`
+//! (with `Prediction::with_white_tail` for points); this file also sums the
+//! per-realisation predictions itself and requires the two to agree to 1e-12.
+//!
 //! Measured: the sample variance of `M` homogenised estimates from the kernel's
 //! estimators, with its standard error from the fourth moment. The prediction's
-//! standard error comes from the per-realisation predictions. A case passes when
-//! the two agree within 5 % or within 2 combined standard errors (the issue's
-//! criterion).
+//! standard error comes from the per-realisation predictions. With the combined
+//! `SE = √(SE_pred² + SE_meas²)` and `z = (pred − meas)/SE`, a case passes when
+//!
+//! * `|z| ≤ z_crit`, where `z_crit` is Bonferroni-corrected over all cases of
+//!   the run: `z_crit = Φ⁻¹(1 − α/(2m))` with suite-wide `α = 1e-3` over the
+//!   `m = 29` release cases (`z_crit ≈ 4.14`), and `z_crit = 5` for the two
+//!   quick cases of the default suite (tests/README.md: α = 5.7e-7 per check);
+//! * and `|pred/meas − 1| ≤ 5 %` in the cases whose resolution allows that
+//!   claim, `z_crit·SE/meas ≤ 5 %` ("5 % resolved"); elsewhere only the `z`
+//!   bound is claimed, and the table prints the resolution `z_crit·SE/meas`,
+//!   the smallest relative error the case detects for sure.
+//!
+//! The false-alarm probability of a release run is at most `α = 1e-3` (union
+//! bound over the 29 z-checks; the 5 % checks add nothing, since in a resolved
+//! case `|z| ≤ z_crit` already implies `|pred − meas| ≤ 5 %·meas`).
 //!
 //! The full tables (release; three tests that run in parallel):
 //! `cargo test --release --test spectral_variance -- --ignored --nocapture`.
@@ -26,7 +42,7 @@ use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, Integrand};
 use linesample::pattern::{Ccvt, Jittered, Pattern, PoissonDisk, PoissonMethod, Random};
 use linesample::primitive::Segment;
-use linesample::spectrum::{Dft, Grid};
+use linesample::spectrum::{Dft, Grid, Periodogram};
 use linesample::stats::RunningStats;
 use linesample::{PatternError, Pcg32, Seed};
 
@@ -101,9 +117,46 @@ impl Row {
     fn z(&self) -> f64 {
         (self.predicted - self.measured) / self.se_pred.hypot(self.se_meas)
     }
-    fn ok(&self) -> bool {
-        self.rel().abs() <= 0.05 || self.z().abs() <= 2.0
+    /// `z_crit·SE/meas`: the smallest relative error this case detects for sure.
+    fn resolution(&self, z_crit: f64) -> f64 {
+        z_crit * self.se_pred.hypot(self.se_meas) / self.measured
     }
+    /// Whether the case resolves the 5 % claim.
+    fn resolves_5pc(&self, z_crit: f64) -> bool {
+        self.resolution(z_crit) <= 0.05
+    }
+    fn ok(&self, z_crit: f64) -> bool {
+        self.z().abs() <= z_crit && (!self.resolves_5pc(z_crit) || self.rel().abs() <= 0.05)
+    }
+}
+
+/// Suite-wide false-alarm probability of the release tables.
+const SUITE_ALPHA: f64 = 1e-3;
+/// Cases in the three release tables together (8 + 9 + 12; each table checks
+/// its own count, so adding a case forces this and `z_crit` to follow).
+const RELEASE_CASES: usize = 29;
+/// `|z|` limit of the quick default-suite cases (tests/README.md).
+const QUICK_Z: f64 = 5.0;
+
+/// `Φ⁻¹(1 − p)` for the standard normal, by bisection on
+/// `Q(z) = erfc(z/√2)/2` (monotone; 200 halvings reach `f64` resolution).
+fn upper_normal_quantile(p: f64) -> f64 {
+    let q = |z: f64| 0.5 * libm::erfc(z / core::f64::consts::SQRT_2);
+    let (mut lo, mut hi) = (0.0f64, 40.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if q(mid) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The Bonferroni `z_crit` of the release tables.
+fn release_z_crit() -> f64 {
+    upper_normal_quantile(SUITE_ALPHA / (2.0 * RELEASE_CASES as f64))
 }
 
 fn scratch(len: usize) -> Vec<f32> {
@@ -118,19 +171,40 @@ fn predict<const D: usize>(
     tail: f64,
     reals: u64,
     mut fill: impl FnMut(u64, &mut Dft<D, Vec<f64>>),
-) -> RunningStats {
+) -> (RunningStats, Periodogram<D, Vec<f64>>) {
     let mut dft = Dft::new_vec(g);
+    let mut per = Periodogram::new_vec(g);
     let mut power = vec![0.0; g.len()];
     let mut st = RunningStats::default();
     for r in 0..reals {
         dft.clear();
         fill(r, &mut dft);
+        per.add(&dft).unwrap();
         dft.power(&mut power).unwrap();
         let n = dft.count() as f64;
         let v: f64 = power.iter().zip(weights).map(|(p, w)| p * w).sum::<f64>() / n;
         st.push(v + tail / n);
     }
-    st
+    (st, per)
+}
+
+/// The kernel's prediction from the mean periodogram, checked against this
+/// file's own per-realisation sum (the mean of the `V_r`), and the row.
+fn row(name: &str, api: f64, own: &RunningStats, meas: &RunningStats) -> Row {
+    // Both are the same sum over the same realisations in a different order
+    // (mean of sums vs sum of means, plain vs compensated): rounding only.
+    assert!(
+        (api / own.mean() - 1.0).abs() <= 1e-12,
+        "{name}: predict_variance {api:e} vs the direct sum {:e}",
+        own.mean()
+    );
+    Row {
+        name: name.to_string(),
+        predicted: api,
+        se_pred: own.mean_std_error(),
+        measured: meas.variance(),
+        se_meas: meas.variance_std_error(),
+    }
 }
 
 /// `w(ν) = multiplicity·p_f(ν)` on the half grid, 0 at DC, and `Σ w`.
@@ -170,7 +244,7 @@ fn case<const D: usize>(
     let mut sc = vec![0.0; PTS_SCRATCH * per_p.max(per_s)];
     let pseed = Seed::new(0x5EC7);
     let mut rng = Pcg32::new(77, 3);
-    let pred = predict(g, &w, tail, reals, |r, dft| {
+    let (pred, per) = predict(g, &w, tail, reals, |r, dft| {
         pattern.fill(pseed.realization(r), &mut pts).unwrap();
         match prim {
             Prim::Points => dft.add_points(&pts, &mut sc).unwrap(),
@@ -198,13 +272,9 @@ fn case<const D: usize>(
     };
     let mut s = scratch(est.scratch_len());
     let m = run_realisations(est.as_ref(), f, Seed::new(0xE57), 0, meas, true, &mut s).unwrap();
-    Row {
-        name: name.to_string(),
-        predicted: pred.mean(),
-        se_pred: pred.mean_std_error(),
-        measured: m.variance(),
-        se_meas: m.variance_std_error(),
-    }
+    let p = per.predict_variance(n as u64, |j| f.fourier(&j).norm_sqr());
+    let api = parseval_total.map_or(p.grid, |t| p.with_white_tail(t));
+    row(name, api, &pred, &m)
 }
 
 /// Axis lines in `D` dims with `K = D − 1`-dim offsets.
@@ -235,7 +305,7 @@ fn line_case<const D: usize, const K: usize>(
     let mut pts = vec![[0.0f32; K]; n];
     let mut sc = vec![0.0; PTS_SCRATCH * Dft::<K, Vec<f64>>::points_scratch_per_sample(g)];
     let pseed = Seed::new(0x11E5);
-    let pred = predict(g, &w, 0.0, reals, |r, dft| {
+    let (pred, per) = predict(g, &w, 0.0, reals, |r, dft| {
         offsets.fill(pseed.realization(r), &mut pts).unwrap();
         dft.add_points(&pts, &mut sc).unwrap();
     });
@@ -244,13 +314,10 @@ fn line_case<const D: usize, const K: usize>(
             .unwrap();
     let mut s = scratch(est.scratch_len());
     let m = run_realisations(&est, f, Seed::new(0xE58), 0, meas, true, &mut s).unwrap();
-    Row {
-        name: name.to_string(),
-        predicted: pred.mean(),
-        se_pred: pred.mean_std_error(),
-        measured: m.variance(),
-        se_meas: m.variance_std_error(),
-    }
+    let api = per
+        .predict_variance(n as u64, |j| f.fourier(&embed(j)).norm_sqr())
+        .grid;
+    row(name, api, &pred, &m)
 }
 
 fn random_direction<const D: usize>(rng: &mut Pcg32) -> Direction<D> {
@@ -271,12 +338,16 @@ fn random_direction<const D: usize>(rng: &mut Pcg32) -> Direction<D> {
     Direction::new(v).unwrap()
 }
 
-fn report(rows: &[Row]) {
-    println!("| case | predicted Var | ± SE | measured Var | ± SE | pred/meas − 1 | z |");
-    println!("|---|---|---|---|---|---|---|");
+fn report(rows: &[Row], z_crit: f64, rule: &str) {
+    println!("rule: {rule}");
+    println!(
+        "pass iff |z| ≤ {z_crit:.3}, and |pred/meas − 1| ≤ 5 % where {z_crit:.3}·SE/meas ≤ 5 % (\"5 % resolved\")"
+    );
+    println!("| case | predicted Var | ± SE | measured Var | ± SE | pred/meas − 1 | z | resolution | 5 % resolved |");
+    println!("|---|---|---|---|---|---|---|---|---|");
     for r in rows {
         println!(
-            "| {} | {:.4e} | {:.1e} | {:.4e} | {:.1e} | {:+.2} % | {:+.2} |{}",
+            "| {} | {:.4e} | {:.1e} | {:.4e} | {:.1e} | {:+.2} % | {:+.2} | {:.1} % | {} |{}",
             r.name,
             r.predicted,
             r.se_pred,
@@ -284,17 +355,31 @@ fn report(rows: &[Row]) {
             r.se_meas,
             100.0 * r.rel(),
             r.z(),
-            if r.ok() { "" } else { " FAIL" }
+            100.0 * r.resolution(z_crit),
+            if r.resolves_5pc(z_crit) { "yes" } else { "no" },
+            if r.ok(z_crit) { "" } else { " FAIL" }
         );
     }
     let bad: Vec<&str> = rows
         .iter()
-        .filter(|r| !r.ok())
+        .filter(|r| !r.ok(z_crit))
         .map(|r| r.name.as_str())
         .collect();
     assert!(
         bad.is_empty(),
         "prediction and measurement disagree: {bad:?}"
+    );
+}
+
+fn report_release(rows: &[Row], expected_cases: usize) {
+    assert_eq!(rows.len(), expected_cases, "update RELEASE_CASES");
+    let z = release_z_crit();
+    report(
+        rows,
+        z,
+        &format!(
+            "Bonferroni over the {RELEASE_CASES} release cases at suite α = {SUITE_ALPHA:e}: z_crit = Φ⁻¹(1 − α/(2·{RELEASE_CASES})) = {z:.3}"
+        ),
     );
 }
 
@@ -324,7 +409,11 @@ fn prediction_matches_measurement_quick() {
             1500,
         ),
     ];
-    report(&rows);
+    report(
+        &rows,
+        QUICK_Z,
+        "default suite: |z| ≤ 5 per case (α = 5.7e-7 each, tests/README.md)",
+    );
 }
 
 const IGNORE: &str =
@@ -407,7 +496,7 @@ fn table_2d_points() {
             )
         });
     }
-    report(&rows);
+    report_release(&rows, 8);
 }
 
 #[test]
@@ -482,7 +571,7 @@ fn table_2d_segments_and_lines() {
             )
         });
     }
-    report(&rows);
+    report_release(&rows, 9);
 }
 
 #[test]
@@ -572,7 +661,7 @@ fn table_3d() {
             )
         });
     }
-    report(&rows);
+    report_release(&rows, 12);
 }
 
 /// The radial form `(1/N) Σ_r count_r P̆_S(r) P̆_f(r)` against the lattice sum
@@ -580,7 +669,7 @@ fn table_3d() {
 /// spectrum is constant on rings, close for isotropic blue noise.
 #[test]
 fn radial_form_matches_the_lattice_sum() {
-    use linesample::spectrum::{radial_variance, Periodogram};
+    use linesample::spectrum::radial_variance;
     let disk = Ball::<2>::new([0.41, 0.53], 0.27).unwrap();
     let k = 24;
     let g = Grid::<2>::new(k).unwrap();
@@ -630,6 +719,10 @@ fn radial_form_matches_the_lattice_sum() {
         .sum::<f64>()
         / 64.0;
     println!("Poisson disk, disk integrand: radial form {radial:.5e}, lattice {lattice:.5e}");
+    // A judgement, not a statistical bound: the two sums differ by the
+    // within-ring covariance of the two spectra, which is not zero for a finite
+    // set of realisations (and for the disk's anisotropic |f̂|² off-centre);
+    // 3 % is the size the radial form is documented to be usable at.
     assert!(
         (radial / lattice - 1.0).abs() < 0.03,
         "{radial} vs {lattice}"

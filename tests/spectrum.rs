@@ -1,5 +1,6 @@
-//! The direct periodogram against independent references: a naive per-pair
-//! double loop, closed-form expected spectra (white noise, jitter), the line
+//! The direct periodogram against independent references: an exact per-pair
+//! double loop (phases in integer arithmetic, `e^{−2πit}` in this file's own
+//! double-double), closed-form expected spectra (white noise, jitter), the line
 //! identity, and the accumulator algebra (chunking, SIMD vs scalar, merge).
 #![allow(clippy::needless_range_loop)]
 
@@ -27,31 +28,211 @@ fn random_points<const D: usize>(n: usize, seed: u64) -> Vec<[f64; D]> {
         .collect()
 }
 
-/// `ν·x mod 1` from exact per-axis products summed in double-double.
-fn phase(j: &[i32], x: &[f64]) -> f64 {
-    let mut acc = Dd::new(0.0);
-    for (a, &ja) in j.iter().enumerate() {
-        let (p, e) = two_prod(f64::from(ja), x[a]);
-        let r = Dd { hi: p, lo: e };
-        let f = frac_centered(r);
-        let (s, e2) = two_sum(acc.hi, f);
-        acc = Dd {
-            hi: s,
-            lo: acc.lo + e2,
-        };
+/// The exact reference: every phase `ν·x mod 1` is formed in exact integer
+/// arithmetic on the `f64` mantissas (`i128`), and `e^{−2πit}` is evaluated in
+/// this file's own double-double arithmetic (about 2⁻¹⁰⁴ relative), so nothing
+/// here shares code or rounding with the kernel's phase tables.
+mod exact {
+    /// An unevaluated sum `hi + lo`, `|lo| ≤ ulp(hi)/2`.
+    #[derive(Clone, Copy, Debug)]
+    pub struct D2(pub f64, pub f64);
+
+    fn quick_two_sum(a: f64, b: f64) -> D2 {
+        let s = a + b;
+        D2(s, b - (s - a))
     }
-    frac_centered(acc)
+    fn two_sum(a: f64, b: f64) -> D2 {
+        let s = a + b;
+        let bb = s - a;
+        D2(s, (a - (s - bb)) + (b - bb))
+    }
+    impl D2 {
+        pub fn add(self, o: D2) -> D2 {
+            let s = two_sum(self.0, o.0);
+            let t = two_sum(self.1, o.1);
+            let u = quick_two_sum(s.0, s.1 + t.0);
+            quick_two_sum(u.0, u.1 + t.1)
+        }
+        pub fn neg(self) -> D2 {
+            D2(-self.0, -self.1)
+        }
+        pub fn mul(self, o: D2) -> D2 {
+            let p = self.0 * o.0;
+            let e = self.0.mul_add(o.0, -p);
+            quick_two_sum(p, e + (self.0 * o.1 + self.1 * o.0))
+        }
+        /// Division by a small integer (exact quotient to ~2⁻¹⁰⁴).
+        pub fn div(self, d: f64) -> D2 {
+            let q1 = self.0 / d;
+            let r = self.add(D2(-q1 * d, -q1.mul_add(d, -(q1 * d))));
+            let q2 = r.0 / d;
+            let r = r.add(D2(-q2 * d, -q2.mul_add(d, -(q2 * d))));
+            quick_two_sum(q1, q2).add(D2(r.0 / d, 0.0))
+        }
+        pub fn to_f64(self) -> f64 {
+            self.0 + self.1
+        }
+    }
+
+    /// `π/2` to 107 bits (the `f64` nearest π/2 and the remainder, which is
+    /// `cos(fl(π/2))` to first order).
+    const HALF_PI: D2 = D2(core::f64::consts::FRAC_PI_2, 6.123_233_995_736_766e-17);
+
+    /// `x = m·2^e` with an integer `m` (exact for every finite `x`).
+    fn parts(x: f64) -> (i128, i32) {
+        assert!(x.is_finite());
+        if x == 0.0 {
+            return (0, 0);
+        }
+        let b = x.to_bits();
+        let exp = ((b >> 52) & 0x7ff) as i32;
+        let frac = (b & ((1 << 52) - 1)) as i128;
+        let (m, e) = if exp == 0 {
+            (frac, -1074)
+        } else {
+            (frac | (1 << 52), exp - 1075)
+        };
+        (if x < 0.0 { -m } else { m }, e)
+    }
+
+    /// `Σ_a j_a·x_a mod 1` as `(num, s)`, the value `num/2^s ∈ [−1/2, 1/2)`,
+    /// computed exactly (denominators up to 2¹²⁰: coordinates with at most 120
+    /// fractional bits, which covers every `|x| ≥ 2⁻⁶⁷`).
+    pub fn phase(j: &[i32], x: &[f64]) -> (i128, u32) {
+        let terms: Vec<(i128, u32)> = j
+            .iter()
+            .zip(x)
+            .filter_map(|(&ja, &xa)| {
+                let (m, e) = parts(xa);
+                if e >= 0 {
+                    return None; // j·m·2^e is an integer
+                }
+                let s = (-e) as u32;
+                assert!(s <= 120, "coordinate {xa:e} has too many fractional bits");
+                Some(((i128::from(ja) * m).rem_euclid(1i128 << s), s))
+            })
+            .collect();
+        let s = terms.iter().map(|t| t.1).max().unwrap_or(0);
+        let one = 1i128 << s;
+        let mut num = 0i128;
+        for (n, sa) in terms {
+            num = (num + (n << (s - sa))).rem_euclid(one);
+        }
+        if 2 * num >= one {
+            num -= one;
+        }
+        (num, s)
+    }
+
+    /// `num/2^s` as a double-double (exact for `|num| < 2¹⁰⁶`).
+    fn ratio(num: i128, s: u32) -> D2 {
+        let scale = 2f64.powi(-(s as i32));
+        let hi = num as f64;
+        let rest = num - hi as i128;
+        D2(hi * scale, rest as f64 * scale)
+    }
+
+    /// `(sin θ, cos θ)` for `|θ| ≤ π/4` by Taylor series in double-double
+    /// (the 19th term is below 2⁻¹²⁰).
+    fn sin_cos(t: D2) -> (D2, D2) {
+        let t2 = t.mul(t);
+        let (mut s, mut c) = (t, D2(1.0, 0.0));
+        let (mut ts, mut tc) = (t, D2(1.0, 0.0));
+        for k in 1..20 {
+            let k = f64::from(k);
+            ts = ts.mul(t2).div(2.0 * k * (2.0 * k + 1.0)).neg();
+            tc = tc.mul(t2).div((2.0 * k - 1.0) * (2.0 * k)).neg();
+            s = s.add(ts);
+            c = c.add(tc);
+        }
+        (s, c)
+    }
+
+    /// `(cos 2πt, sin 2πt)` for `t = num/2^s ∈ [−1/2, 1/2)`: the quadrant `q`
+    /// (`4t = q + w`, `|w| ≤ 1/2`) is removed in integers, `θ = w·π/2`.
+    pub fn cos_sin_turns(num: i128, s: u32) -> (D2, D2) {
+        // 4t = 4·num/2^s; with s ≥ 2 the quadrant split is exact in integers.
+        let (num, s) = if s < 2 { (num << (2 - s), 2) } else { (num, s) };
+        let quarter = 1i128 << (s - 2);
+        let q = (num + quarter / 2).div_euclid(quarter); // round(4t), ties up
+        let w = num - q * quarter; // 4t − q = w/2^{s−2}
+        let (sn, cs) = sin_cos(ratio(w, s - 2).mul(HALF_PI));
+        match q.rem_euclid(4) {
+            0 => (cs, sn),
+            1 => (sn.neg(), cs),
+            2 => (cs.neg(), sn.neg()),
+            _ => (sn, cs.neg()),
+        }
+    }
+
+    /// `sin(πX)/(πX)` for `X = 2·Σ_a j_a·y_a` (exact rational from the `f64`
+    /// inputs), 1 at `X = 0`.
+    pub fn sinc_2jy(j: &[i32], y: &[f64]) -> f64 {
+        // sin(πX) = sin(2π·(Σ j_a y_a mod 1)).
+        let (num, s) = phase(j, y);
+        let (_, sn) = cos_sin_turns(num, s);
+        // X itself (not reduced) in double-double: Σ 2 j_a y_a, each product
+        // exact in two parts.
+        let mut x = D2(0.0, 0.0);
+        for (&ja, &ya) in j.iter().zip(y) {
+            let p = 2.0 * f64::from(ja) * ya;
+            let e = (2.0 * f64::from(ja)).mul_add(ya, -p);
+            x = x.add(D2(p, e));
+        }
+        if x.0 == 0.0 {
+            return 1.0;
+        }
+        let pix = x.mul(D2(core::f64::consts::PI, 1.224_646_799_147_353_2e-16));
+        // sn / pix in double-double (one Newton step on the f64 quotient).
+        let q = sn.0 / pix.0;
+        let r = sn.add(pix.mul(D2(-q, 0.0)));
+        q + r.0 / pix.0
+    }
+
+    /// `Σ_k w_k e^{−2πiν·x_k}` summed in double-double, rounded once.
+    pub fn amplitude(j: &[i32], xs: &[Vec<f64>], w: impl Fn(usize) -> f64) -> (f64, f64) {
+        let (mut re, mut im) = (D2(0.0, 0.0), D2(0.0, 0.0));
+        for (k, x) in xs.iter().enumerate() {
+            let (num, s) = phase(j, x);
+            let (c, sn) = cos_sin_turns(num, s);
+            let wk = D2(w(k), 0.0);
+            re = re.add(c.mul(wk));
+            im = im.add(sn.mul(wk).neg());
+        }
+        (re.to_f64(), im.to_f64())
+    }
 }
 
-/// Naive `Σ_k w_k e^{−2πiν·x_k}`: one `sin`/`cos` per (sample, frequency).
-fn naive(j: &[i32], xs: &[Vec<f64>], w: impl Fn(usize) -> f64) -> (f64, f64) {
-    let (mut re, mut im) = (0.0, 0.0);
-    for (k, x) in xs.iter().enumerate() {
-        let t = core::f64::consts::TAU * phase(j, x);
-        re += w(k) * t.cos();
-        im -= w(k) * t.sin();
+/// The exact reference amplitude (see [`exact`]).
+fn exact_amplitude(j: &[i32], xs: &[Vec<f64>], w: impl Fn(usize) -> f64) -> (f64, f64) {
+    exact::amplitude(j, xs, w)
+}
+
+#[test]
+fn exact_reference_checks_itself() {
+    use exact::*;
+    // Known values: t = 1/8 → cos = sin = √½; t = −1/4 → (0, −1); t = 1/3·(1 − 2⁻⁵⁴)
+    // against the f64 libm value (agreement to a few ulp only).
+    let r = 0.5f64.sqrt();
+    let (c, s) = cos_sin_turns(1, 3);
+    assert!((c.to_f64() - r).abs() <= 1.2e-16 && (s.to_f64() - r).abs() <= 1.2e-16);
+    let (c, s) = cos_sin_turns(-1, 2);
+    assert_eq!((c.to_f64(), s.to_f64()), (0.0, -1.0));
+    let mut rng = Pcg32::new(1, 1);
+    for _ in 0..2000 {
+        let x = uniform(&mut rng) - 0.5;
+        let (num, s) = phase(&[1], &[x]);
+        let (c, sn) = cos_sin_turns(num, s);
+        // cos² + sin² = 1 to double-double accuracy.
+        let one = c.mul(c).add(sn.mul(sn)).add(D2(-1.0, 0.0)).to_f64();
+        assert!(one.abs() < 1e-30, "{one:e}");
+        let th = core::f64::consts::TAU * x;
+        assert!((c.to_f64() - th.cos()).abs() < 4e-16 && (sn.to_f64() - th.sin()).abs() < 4e-16);
     }
-    (re, im)
+    // The phase is exact: j·x mod 1 for x = (2⁵³ − 1)/2⁵³ and j = 3 is −3/2⁵³.
+    assert_eq!(phase(&[3], &[1.0 - f64::EPSILON / 2.0]), (-3, 53));
+    // 7·(3/4) − 2·(49/16) = −7/8 ≡ 1/8 = 2⁵⁰/2⁵³ (mantissas are not reduced).
+    assert_eq!(phase(&[7, -2], &[0.75, 3.0625]), (1 << 50, 53));
 }
 
 fn scratch_points<const D: usize>(g: Grid<D>, chunk: usize) -> Vec<f64> {
@@ -62,7 +243,7 @@ fn scratch_segments<const D: usize>(g: Grid<D>, chunk: usize) -> Vec<f64> {
     vec![0.0; chunk * Dft::<D, Vec<f64>>::segments_scratch_per_sample(g)]
 }
 
-fn max_err_vs_naive<const D: usize>(pts: &[[f64; D]], k: usize) -> f64 {
+fn max_err_vs_exact<const D: usize>(pts: &[[f64; D]], k: usize) -> f64 {
     let g = Grid::<D>::new(k).unwrap();
     let mut dft = Dft::new_vec(g);
     dft.add_points(pts, &mut scratch_points(g, 37)).unwrap();
@@ -70,15 +251,22 @@ fn max_err_vs_naive<const D: usize>(pts: &[[f64; D]], k: usize) -> f64 {
     let mut worst: f64 = 0.0;
     for i in 0..g.len() {
         let j = g.freq(i);
-        let (re, im) = naive(&j, &xs, |_| 1.0);
+        let (re, im) = exact_amplitude(&j, &xs, |_| 1.0);
         let f = dft.amplitude_at(i);
         worst = worst.max((f.re - re).abs()).max((f.im - im).abs());
     }
     worst / pts.len() as f64
 }
 
+/// The README's promise for points: `|F − F_exact| ≤ 4e-16·N` (each of the real
+/// and imaginary parts) at any frequency up to `|ν| = 10⁴`. It is a fixed
+/// deterministic computation, so the bound is asserted as stated (no
+/// statistical margin); the kernel's own `Dft` docs allow `~8ε·Σ|w_k|`
+/// (1.8e-15·N), the README is the stricter claim.
+const README_POINT_BOUND: f64 = 4e-16;
+
 #[test]
-fn direct_matches_naive_double_loop() {
+fn direct_matches_exact_reference() {
     // Low and moderate frequencies in 2D and 3D, including hard coordinates.
     let mut pts: Vec<[f64; 2]> = random_points(61, 1);
     pts.extend([
@@ -87,40 +275,73 @@ fn direct_matches_naive_double_loop() {
         [0.25, 0.75],
         [-3.2, 1e3 + 0.1],
     ]);
-    let e2 = max_err_vs_naive(&pts, 40);
-    let e3 = max_err_vs_naive(&random_points::<3>(23, 2), 9);
-    // 1D up to |ν| = 10⁴, and 2D with |ν_a| up to 10⁴ on a thin grid slice.
-    let e1 = max_err_vs_naive(&random_points::<1>(40, 3), 10_000);
-    println!("max |F − F_naive|/N: 2D {e2:.2e}, 3D {e3:.2e}, 1D to 10⁴ {e1:.2e}");
-    assert!(e2 < 1e-15 && e3 < 1e-15, "{e2} {e3}");
-    assert!(e1 < 1e-14, "{e1}");
+    let e2 = max_err_vs_exact(&pts, 40);
+    let e3 = max_err_vs_exact(&random_points::<3>(23, 2), 9);
+    // 1D up to |ν| = 10⁴ (every frequency).
+    let e1 = max_err_vs_exact(&random_points::<1>(40, 3), 10_000);
+    println!("max |F − F_exact|/N: 2D {e2:.2e}, 3D {e3:.2e}, 1D to 10⁴ {e1:.2e} (bound {README_POINT_BOUND:e})");
+    for e in [e2, e3, e1] {
+        assert!(e <= README_POINT_BOUND, "max |F − F_exact|/N = {e:e}");
+    }
 }
 
 #[test]
-fn high_frequencies_in_2d_stay_exact() {
-    // k = 700 puts |ν| up to ~990; check the periodogram P = |F/N|² at the
-    // top corner cells and along the axes.
-    let pts: Vec<[f64; 2]> = random_points(17, 4);
-    let g = Grid::<2>::new(700).unwrap();
-    let mut dft = Dft::new_vec(g);
-    dft.add_points(&pts, &mut scratch_points(g, 5)).unwrap();
-    let xs: Vec<Vec<f64>> = pts.iter().map(|p| p.to_vec()).collect();
-    let n = pts.len() as f64;
-    let mut worst: f64 = 0.0;
-    for j in [
-        [700, 700],
-        [700, -700],
-        [1, -699],
-        [0, 700],
-        [613, 1],
-        [700, 0],
-    ] {
-        let (re, im) = naive(&j, &xs, |_| 1.0);
-        let f = dft.amplitude(j).unwrap();
-        let p_ref = (re * re + im * im) / (n * n);
-        worst = worst.max((f.norm_sqr() / (n * n) - p_ref).abs());
+#[ignore = "kernel bug: Dft reduces x to x − ⌊x⌋, which rounds for x in (−1, 0), so the phase \
+            error grows like j·2⁻⁵⁴ (8e-13·N measured at |ν| = 10⁴); un-ignore when the phase \
+            reduction is exact for negative coordinates"]
+fn negative_coordinates_are_reduced_exactly() {
+    // x ∈ (−0.3, 0] with bits below 2⁻⁵³: x + 1 is not representable.
+    let neg: Vec<[f64; 1]> = random_points::<1>(40, 3)
+        .iter()
+        .map(|p| [-0.3 * p[0]])
+        .collect();
+    let e = max_err_vs_exact(&neg, 10_000);
+    println!("negative coordinates, 1D to 10⁴: max |F − F_exact|/N = {e:.2e}");
+    assert!(e <= README_POINT_BOUND, "max |F − F_exact|/N = {e:e}");
+}
+
+#[test]
+fn high_frequencies_stay_exact() {
+    // 2D: k = 700 puts |ν| up to ~990 (corner cells and axis ends); 1D: a grid
+    // of k = 2²⁰ (the largest |ν| the Dft docs cover), 400 random frequencies
+    // and the top ones.
+    fn worst<const D: usize>(pts: &[[f64; D]], g: Grid<D>, cells: &[[i32; D]]) -> f64 {
+        let mut dft = Dft::new_vec(g);
+        dft.add_points(pts, &mut scratch_points(g, 5)).unwrap();
+        let xs: Vec<Vec<f64>> = pts.iter().map(|p| p.to_vec()).collect();
+        let mut worst: f64 = 0.0;
+        for j in cells {
+            let (re, im) = exact_amplitude(j, &xs, |_| 1.0);
+            let f = dft.amplitude(*j).unwrap();
+            worst = worst.max((f.re - re).abs()).max((f.im - im).abs());
+        }
+        worst / pts.len() as f64
     }
-    assert!(worst < 1e-14, "{worst}");
+    let e2 = worst(
+        &random_points::<2>(17, 4),
+        Grid::<2>::new(700).unwrap(),
+        &[
+            [700, 700],
+            [700, -700],
+            [1, -699],
+            [0, 700],
+            [613, 1],
+            [700, 0],
+        ],
+    );
+    let k = 1usize << 20;
+    let mut rng = Pcg32::new(6, 6);
+    let mut cells: Vec<[i32; 1]> = vec![[k as i32], [k as i32 - 1], [1 << 19], [999_999]];
+    cells.extend((0..400).map(|_| [(rng.next_u32() % (k as u32 + 1)) as i32]));
+    let e1 = worst(
+        &random_points::<1>(9, 7),
+        Grid::<1>::new(k).unwrap(),
+        &cells,
+    );
+    println!("max |F − F_exact|/N: 2D to |ν| ≈ 990 {e2:.2e}, 1D to 2²⁰ {e1:.2e}");
+    assert!(e2 <= README_POINT_BOUND, "2D: {e2:e}");
+    // Beyond the README's |ν| = 10⁴ the Dft docs' bound ~8ε applies.
+    assert!(e1 <= 8.0 * f64::EPSILON, "1D to 2²⁰: {e1:e}");
 }
 
 #[test]
@@ -184,7 +405,7 @@ fn simd_scalar_and_chunking_agree_bit_for_bit() {
 }
 
 #[test]
-fn segments_match_naive_weighted_sum() {
+fn segments_match_exact_weighted_sum() {
     fn check<const D: usize>(k: usize, n: usize) -> f64 {
         let pts: Vec<[f64; D]> = random_points(n, 30 + D as u64);
         let mut rng = Pcg32::new(99, 1);
@@ -205,15 +426,12 @@ fn segments_match_naive_weighted_sum() {
         for i in 0..g.len() {
             let j = g.freq(i);
             // The kernel's definition: y_a = fl(λω_a/2), weight sinc(2 Σ j_a y_a).
-            let (re, im) = naive(&j, &xs, |s| {
+            let (re, im) = exact_amplitude(&j, &xs, |s| {
                 let seg = &segs[s];
-                let mut t = Dd::new(0.0);
-                for a in 0..D {
-                    let y = 0.5 * seg.length() * seg.dir().get()[a];
-                    let (p, e) = two_prod(2.0 * f64::from(j[a]), y);
-                    t = t.add(Dd { hi: p, lo: e });
-                }
-                sinc_dd(t)
+                let y: Vec<f64> = (0..D)
+                    .map(|a| 0.5 * seg.length() * seg.dir().get()[a])
+                    .collect();
+                exact::sinc_2jy(&j, &y)
             });
             let f = dft.amplitude_at(i);
             worst = worst.max((f.re - re).abs()).max((f.im - im).abs());
@@ -228,11 +446,13 @@ fn segments_match_naive_weighted_sum() {
         check::<3>(5, 20),
     ];
     println!(
-        "segments: max |F − F_naive|/N = {:.2e} (1D k = 60), {:.2e} (1D k = 700), {:.2e} (2D), {:.2e} (3D)",
+        "segments: max |F − F_exact|/N = {:.2e} (1D k = 60), {:.2e} (1D k = 700), {:.2e} (2D), {:.2e} (3D)",
         e[0], e[1], e[2], e[3]
     );
+    // The Dft docs' bound for weighted sums, `~8ε·Σ|w_k|`, with Σ|w_k| ≤ N
+    // (|sinc| ≤ 1); the README states no separate segment figure.
     for x in e {
-        assert!(x < 1e-14, "{x}");
+        assert!(x <= 8.0 * f64::EPSILON, "max |F − F_exact|/N = {x:e}");
     }
 }
 
@@ -351,8 +571,12 @@ fn white_noise_has_unit_expected_spectrum() {
             2 => white::<2>(12, 64, 300),
             _ => white::<3>(5, 64, 200),
         };
-        println!("random {d}D: max |ring mean − 1|/SE = {worst:.2}");
-        assert!(worst < 4.0, "{d}D: {worst}");
+        // |z| ≤ 5 per ring (tests/README.md: α = 5.7e-7 per check; 60 + 12 + 5
+        // rings = 77 checks). Smallest detectable ring bias: 5·SE ≈ 5/√R of the
+        // white-noise level 1 (0.25, 0.29, 0.35 in 1D, 2D, 3D; less on outer
+        // rings, which average many cells).
+        println!("random {d}D: max |ring mean − 1|/SE = {worst:.2} (limit 5)");
+        assert!(worst <= 5.0, "{d}D: {worst}");
     }
     fn white<const D: usize>(k: usize, n: usize, reals: u64) -> f64 {
         let g = Grid::<D>::new(k).unwrap();
@@ -402,17 +626,22 @@ fn jittered_matches_closed_form_expected_spectrum() {
             let z = (stats[r].mean() - e) / stats[r].mean_std_error();
             worst = worst.max(z.abs());
         }
-        // A low-frequency cell where the spectrum is tiny: relative check.
+        // A low-frequency cell where the spectrum is tiny: there F is a sum of
+        // N independent bounded terms, close to complex normal, so N·P is close
+        // to exponential with SD = mean and the mean of R realisations has
+        // SE ≈ e/√R; |z| ≤ 5 (a relative effect of 5/√R = 0.25 in 2D, 0.29 in 3D).
         let mut j = [0i32; D];
         j[D - 1] = 1;
         let (m, e) = (per.mean(j).unwrap(), jittered_expected(strata, j));
-        assert!((m - e).abs() < 0.25 * e, "cell {j:?}: {m} vs {e}");
+        let z = (m - e) / (e / (reals as f64).sqrt());
+        assert!(z.abs() <= 5.0, "cell {j:?}: {m} vs {e}, z = {z:.2}");
         worst
     }
     let w2 = check::<2>([8, 8], 24, 400);
     let w3 = check::<3>([4, 4, 4], 8, 300);
-    println!("jittered: max ring |z| 2D {w2:.2}, 3D {w3:.2}");
-    assert!(w2 < 4.0 && w3 < 4.0);
+    // |z| ≤ 5 per ring: 24 + 8 ring checks and 2 cell checks (34 in all).
+    println!("jittered: max ring |z| 2D {w2:.2}, 3D {w3:.2} (limit 5)");
+    assert!(w2 <= 5.0 && w3 <= 5.0, "{w2} {w3}");
 }
 
 #[test]
@@ -503,7 +732,8 @@ fn caller_buffers_work_without_alloc_conveniences() {
     }
     let mut out = vec![0.0; 7];
     assert_eq!(per.slice([1, 1], &mut out).unwrap(), 7);
-    assert_eq!(out[1], 2.0_f64.min(out[1].max(2.0 - 1e-14)));
+    // ν = (1, 1)·1 has N·P = 2 up to the rounding of the two phasors.
+    assert!((2.0 - 1e-14..=2.0).contains(&out[1]), "{}", out[1]);
 }
 
 #[test]
@@ -587,9 +817,9 @@ mod properties {
 }
 
 #[test]
-fn issue_case_n4096_on_the_639_grid_matches_the_naive_loop() {
+fn issue_case_n4096_on_the_639_grid_matches_the_exact_reference() {
     // The benchmark case (N = 4096 uniform points, k = 319): every corner and
-    // axis end plus 300 random cells against the naive double loop.
+    // axis end plus 300 random cells against the exact reference.
     let pts: Vec<[f64; 2]> = random_points(4096, 77);
     let g = Grid::<2>::new(319).unwrap();
     let mut dft = Dft::new_vec(g);
@@ -607,13 +837,23 @@ fn issue_case_n4096_on_the_639_grid_matches_the_naive_loop() {
     let n = pts.len() as f64;
     let (mut worst_f, mut worst_p): (f64, f64) = (0.0, 0.0);
     for j in cells {
-        let (re, im) = naive(&j, &xs, |_| 1.0);
+        let (re, im) = exact_amplitude(&j, &xs, |_| 1.0);
         let f = dft.amplitude(j).unwrap();
         worst_f = worst_f.max((f.re - re).abs().max((f.im - im).abs()) / n);
         worst_p = worst_p.max(((f.norm_sqr() - (re * re + im * im)) / (n * n)).abs());
     }
     println!(
-        "N = 4096, k = 319: max |F − F_naive|/N = {worst_f:.1e}, max |P − P_naive| = {worst_p:.1e}"
+        "N = 4096, k = 319: max |F − F_exact|/N = {worst_f:.1e}, max |P − P_exact| = {worst_p:.1e}"
     );
-    assert!(worst_f <= 1e-12 && worst_p <= 1e-12, "{worst_f} {worst_p}");
+    // The README's bound on F, and the bound on P = |F|²/N² it implies:
+    // |P − P_exact| ≤ (2|F|·δ + δ²)/N² with |F| ≤ N, δ = √2·4e-16·N (complex).
+    let delta = 2f64.sqrt() * README_POINT_BOUND;
+    assert!(
+        worst_f <= README_POINT_BOUND,
+        "max |F − F_exact|/N = {worst_f:e}"
+    );
+    assert!(
+        worst_p <= 2.0 * delta + delta * delta,
+        "max |P − P_exact| = {worst_p:e}"
+    );
 }
