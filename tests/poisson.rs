@@ -2,7 +2,9 @@
 //! dart throwing on a probe grid, range, determinism, the N-points mode and bad
 //! input.
 
-use linesample::pattern::{poisson_max_radius, PoissonDisk, PoissonMethod, POISSON_MAX_CELLS};
+use linesample::pattern::{
+    poisson_max_radius, PoissonDisk, PoissonMethod, POISSON_MAX_CELLS, POISSON_MAX_CELLS_1D,
+};
 use linesample::{PatternError, Seed};
 use proptest::prelude::*;
 
@@ -106,18 +108,27 @@ fn log_radius(lo: f64, hi: f64) -> impl Strategy<Value = f64> {
     (lo.ln()..hi.ln()).prop_map(f64::exp)
 }
 
-/// Cells per axis allowed by [`POISSON_MAX_CELLS`]: the largest `G` with
+/// Cells per axis allowed by [`max_cells`]: the largest `G` with
 /// `G^D ≤ 2²⁶` (2²⁶, 8192, 406 in 1, 2, 3D).
+/// The kernel's cell cap: [`POISSON_MAX_CELLS_1D`] in 1D, [`POISSON_MAX_CELLS`] else.
+fn max_cells(d: u32) -> u64 {
+    if d == 1 {
+        POISSON_MAX_CELLS_1D
+    } else {
+        POISSON_MAX_CELLS
+    }
+}
+
 fn max_grid(d: u32) -> u64 {
     let mut g = 1u64;
-    while (g + 1).pow(d) <= POISSON_MAX_CELLS {
+    while (g + 1).pow(d) <= max_cells(d) {
         g += 1;
     }
     g
 }
 
 /// The grid limit: the smallest radius the sampler accepts is just above
-/// `√D/G` (`g = ⌊√D/r⌋ + 1 ≤ G`), 1.49e-8, 1.73e-4 and 4.28e-3 in 1, 2, 3D.
+/// `√D/G` (`g = ⌊√D/r⌋ + 1 ≤ G`), 2.38e-7, 1.73e-4 and 4.28e-3 in 1, 2, 3D.
 fn grid_limit(d: u32) -> f64 {
     f64::from(d).sqrt() / max_grid(d) as f64
 }
@@ -129,7 +140,7 @@ proptest! {
     /// values, with an O(N) neighbour check). Radii log-uniform down to where a
     /// run has ~10⁵ points (1e-5, 3e-3, 0.04 in 1, 2, 3D: at most ~3 s per case
     /// in the debug build); from there to the grid limit the runs take minutes
-    /// (~8·10⁶ points at the 1D limit), so that range is the ignored release
+    /// (~4·10⁶ points at the 1D limit), so that range is the ignored release
     /// test `min_distance_at_the_grid_limit` and the constructor properties below.
     #[test]
     fn min_distance_1d(seed in any::<u64>(), r in log_radius(1e-5, 0.6)) {
@@ -201,10 +212,7 @@ fn the_grid_limit_is_where_the_constructor_says() {
         assert_eq!(above.grid_resolution() as u64, max_grid(d), "D = {D}");
         assert!(matches!(
             PoissonDisk::<D>::with_radius(lim * (1.0 - 1e-12)),
-            Err(PatternError::GridTooLarge {
-                max: POISSON_MAX_CELLS,
-                ..
-            })
+            Err(PatternError::GridTooLarge { max, .. }) if max == max_cells(d)
         ));
     }
     check::<1>();
@@ -213,11 +221,12 @@ fn the_grid_limit_is_where_the_constructor_says() {
 }
 
 /// Release only (minutes in debug): runs at the grid limit itself, where the
-/// grid has ~2²⁶ cells and, in 1D, the cell width 2⁻²⁶ is finer than the `f32`
-/// spacing near 1 (2⁻²⁴): every pair is still ≥ r apart in the stored values.
+/// grid has ~2²⁶ cells (2D, 3D) or 2²² cells (1D: r ≈ 2⁻²², four `f32`
+/// spacings near 1): every pair is still ≥ r apart in the stored values, and
+/// a run covers the torus (before the 1D cap, r = 1.5·10⁻⁸ let Bridson stop
+/// after one point: every candidate rounded to within r of the first).
 #[test]
-#[ignore = "release: cargo test --release --test poisson -- --ignored; fails today: 1D Bridson at \
-            r < 2⁻²⁴ can stop after one point (f32 rounding), see the density check"]
+#[ignore = "release: cargo test --release --test poisson -- --ignored"]
 fn min_distance_at_the_grid_limit() {
     fn check<const D: usize>() {
         let r = grid_limit(D as u32) * (1.0 + 1e-12);
@@ -233,13 +242,10 @@ fn min_distance_at_the_grid_limit() {
             );
             assert!(d >= r, "{m:?} D = {D}: min distance {d:e} < r = {r:e}");
             // Not a stall: a run covers the torus. In 1D half the packing
-            // bound 1/r, capped at 2²² (half of the 2²³ f32 values in [1/2, 1),
-            // which limit a 1D set at this radius: a good run from seed 1 has
-            // 8.39·10⁶ points); in 2D/3D a tenth of max_points.
-            // Fails today in 1D (seed 7: Bridson stops after 1 point, since
-            // every candidate rounds to within r of the first f32 point).
+            // bound 1/r (a maximal set has at least 1/(2r) points); in 2D/3D a
+            // tenth of max_points.
             let want = if D == 1 {
-                (0.5 / r).min(f64::from(1u32 << 22)) as usize
+                (0.5 / r) as usize
             } else {
                 PoissonDisk::<D>::with_radius(r).unwrap().max_points() / 10
             };

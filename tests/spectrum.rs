@@ -286,9 +286,6 @@ fn direct_matches_exact_reference() {
 }
 
 #[test]
-#[ignore = "kernel bug: Dft reduces x to x − ⌊x⌋, which rounds for x in (−1, 0), so the phase \
-            error grows like j·2⁻⁵⁴ (8e-13·N measured at |ν| = 10⁴); un-ignore when the phase \
-            reduction is exact for negative coordinates"]
 fn negative_coordinates_are_reduced_exactly() {
     // x ∈ (−0.3, 0] with bits below 2⁻⁵³: x + 1 is not representable.
     let neg: Vec<[f64; 1]> = random_points::<1>(40, 3)

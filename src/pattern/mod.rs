@@ -49,7 +49,7 @@ pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
 pub use nrooks::NRooks;
 pub use poisson::{
     poisson_max_radius, PoissonDisk, PoissonMethod, BRIDSON_DEFAULT_CANDIDATES,
-    BRIDSON_MAX_CANDIDATES, POISSON_MAX_CELLS,
+    BRIDSON_MAX_CANDIDATES, POISSON_MAX_CELLS, POISSON_MAX_CELLS_1D,
 };
 pub use random::Random;
 pub use sobol::{Sobol, SOBOL_DIMENSIONS};

@@ -13,8 +13,16 @@ const DART_PURPOSE: u64 = 0x504F_4953_534F_4E01;
 /// Seed purpose of the random subset chosen by [`PoissonDisk::generate_n`].
 const SUBSET_PURPOSE: u64 = 0x504F_4953_534F_4E02;
 
-/// Largest supported number of background-grid cells, `2²⁶`.
+/// Largest supported number of background-grid cells in 2D and 3D, `2²⁶`.
 pub const POISSON_MAX_CELLS: u64 = 1 << 26;
+
+/// Largest supported number of background-grid cells in 1D, `2²²`, so that
+/// `r > 2⁻²²`: four times the spacing `2⁻²⁴` of the `f32` coordinates near 1.
+/// A candidate at distance `≥ r` from a point then stays more than `r − 2⁻²⁵`
+/// away after rounding to `f32`; at smaller radii candidates round onto the
+/// points they start from (found: Bridson at `r = 1.5·10⁻⁸` stopped after one
+/// point).
+pub const POISSON_MAX_CELLS_1D: u64 = 1 << 22;
 
 /// Default number of candidates per active point in Bridson's algorithm (`k = 30`,
 /// Bridson 2007).
@@ -132,7 +140,8 @@ impl<const D: usize> PoissonDisk<D> {
     /// # Errors
     /// [`PatternError::Dims`] unless `D ∈ 1..=3`; [`PatternError::Radius`] if
     /// `radius` is NaN, infinite or `≤ 0`; [`PatternError::GridTooLarge`] if the
-    /// grid `g^D` (`g = ⌊√D/r⌋ + 1`) would exceed [`POISSON_MAX_CELLS`].
+    /// grid `g^D` (`g = ⌊√D/r⌋ + 1`) would exceed [`POISSON_MAX_CELLS`]
+    /// ([`POISSON_MAX_CELLS_1D`] in 1D).
     pub fn with_radius(radius: f64) -> Result<Self, PatternError> {
         check_dims::<D>(1, 3)?;
         if !(radius.is_finite() && radius > 0.0) {
@@ -141,7 +150,12 @@ impl<const D: usize> PoissonDisk<D> {
         let sd = libm::sqrt(D as f64);
         let gf = libm::floor(sd / radius) + 1.0;
         let cells_f = libm::pow(gf, D as f64);
-        if cells_f > POISSON_MAX_CELLS as f64 {
+        let max_cells = if D == 1 {
+            POISSON_MAX_CELLS_1D
+        } else {
+            POISSON_MAX_CELLS
+        };
+        if cells_f > max_cells as f64 {
             let cells = if cells_f >= u64::MAX as f64 {
                 u64::MAX
             } else {
@@ -149,7 +163,7 @@ impl<const D: usize> PoissonDisk<D> {
             };
             return Err(PatternError::GridTooLarge {
                 cells,
-                max: POISSON_MAX_CELLS,
+                max: max_cells,
             });
         }
         let g = gf as usize;
