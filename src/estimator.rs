@@ -549,11 +549,12 @@ mod tests {
             }
             zz += w[2] * w[2] / n as f64;
         }
-        // E[w] = 0 (SE 1/√(3n)), E[w_z²] = 1/3 (SE √(4/45/n)).
+        // E[w] = 0 (SE 1/√(3n)), E[w_z²] = 1/3 (SE √(4/45/n)); |z| ≤ 5, the
+        // suite's rule (tests/README.md).
         let se = (1.0 / (3.0 * n as f64)).sqrt();
-        assert!(mean.iter().all(|m| m.abs() < 4.0 * se), "{mean:?}");
+        assert!(mean.iter().all(|m| m.abs() < 5.0 * se), "{mean:?}");
         assert!(
-            (zz - 1.0 / 3.0).abs() < 4.0 * (4.0 / 45.0 / n as f64).sqrt(),
+            (zz - 1.0 / 3.0).abs() < 5.0 * (4.0 / 45.0 / n as f64).sqrt(),
             "{zz}"
         );
     }

@@ -805,11 +805,14 @@ fn slope(c: &Curve, label: &str, log_power: f64) -> (f64, f64) {
     (b, se)
 }
 
+/// Slope against theory at `|z| ≤ 4.3`: the Bonferroni-corrected critical
+/// value for the release suite's ~45 checks at a suite-wide `α = 1e-3`
+/// (tests/README.md).
 fn check(label: &str, (b, se): (f64, f64), theory: f64) {
     let z = (b - theory) / se;
     println!("  {label}: {b:.3} ± {se:.3}, theory {theory:.3}, z = {z:+.2}");
     assert!(
-        z.abs() <= 3.0,
+        z.abs() <= 4.3,
         "{label}: slope {b} ± {se} vs theory {theory}"
     );
 }
