@@ -5,8 +5,6 @@
 #![allow(clippy::needless_range_loop)]
 
 use linesample::geom::Direction;
-use linesample::num::{frac_centered, sinc_dd};
-use linesample::num::{two_prod, two_sum, Dd};
 use linesample::pattern::{Jittered, Pattern, Random};
 use linesample::primitive::Segment;
 use linesample::spectrum::{
