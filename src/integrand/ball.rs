@@ -6,7 +6,7 @@ use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::{for_each_piece, Direction};
 use crate::num::lane::{load8, store8, F32Lane, LANES};
-use crate::num::{frac, two_prod, two_sum, Dd};
+use crate::num::{cis_turns, dot_turns, frac, two_prod, two_sum, Dd};
 use crate::primitive::{Rays32, Segment};
 use core::f64::consts::PI;
 use wide::f32x8;
@@ -653,20 +653,7 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// `ε·x/(2π²ρ³)` there.
     fn fourier(&self, k: &[i32; D]) -> Complex {
         let amp = self.amplitude(k);
-        // φ = k·c mod 1 ∈ [−1/2, 1/2] as a double-double.
-        let mut acc = Dd::new(0.0);
-        for j in 0..D {
-            let (p, e) = two_prod(f64::from(k[j]), self.centre[j]);
-            acc = acc.add(Dd::new(p - libm::round(p))).add(Dd::new(e));
-        }
-        let phi = Dd::new(acc.hi - libm::round(acc.hi)).add(Dd::new(acc.lo));
-        let ang = TWO_PI.mul(phi);
-        let (s, c) = libm::sincos(ang.hi);
-        // sin/cos(θ + δ) = (s + δc, c − δs) + O(δ²)
-        let (s, c) = (s + ang.lo * c, c - ang.lo * s);
-        Complex {
-            re: amp * c,
-            im: -amp * s,
-        }
+        // e^{−2πik·c} with k·c reduced modulo 1 exactly (crate::num::phase).
+        cis_turns(dot_turns(k, &self.centre)).scale(amp)
     }
 }

@@ -21,8 +21,8 @@ use crate::error::ParamError;
 use crate::geom::{clip_to_unit_box, for_each_piece, Direction};
 use crate::num::frac;
 use crate::num::lane::{load8, store8, F32Lane, LANES};
-use crate::num::{frac_centered, sinc_dd};
-use crate::num::{two_prod, Dd};
+use crate::num::Dd;
+use crate::num::{cis_turns, dot_turns, frac_centered, sinc_dd};
 use crate::primitive::{Line, Rays32, Segment};
 use crate::special::{erfcx, exp_neg_dd, gauss_mid};
 use core::f64::consts::{PI, SQRT_2, TAU};
@@ -755,24 +755,16 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
     /// coefficient is accurate to ≤ 4 ulp of its modulus at any frequency.
     fn fourier(&self, k: &[i32; D]) -> Complex {
         let mut k2 = Dd::new(0.0);
-        let mut ph = Dd::new(0.0);
         for j in 0..D {
             let kj = f64::from(k[j]);
             k2 = k2.add(Dd::prod(kj, kj));
-            let (p, e) = two_prod(kj, self.centre[j]);
-            let pr = p - libm::round(p); // exact
-            ph = ph.add(Dd::new(pr)).add(Dd::new(e));
         }
         let modulus = exp_neg_dd(self.two_pi2_s2.mul(k2), 1.0);
         if modulus == 0.0 {
             return Complex { re: 0.0, im: 0.0 };
         }
-        let r = frac_centered(ph);
-        let (s, c) = (libm::sin(TAU * r), libm::cos(TAU * r));
-        Complex {
-            re: modulus * c,
-            im: -modulus * s,
-        }
+        // e^{−2πik·c} with k·c reduced modulo 1 exactly (crate::num::phase).
+        cis_turns(dot_turns(k, &self.centre)).scale(modulus)
     }
 
     /// The wrapped segment integral. `σ > 0.3`: the Fourier series

@@ -60,6 +60,22 @@ pub fn cis_turns(theta: Dd) -> Complex {
     Complex { re: c, im: -s }
 }
 
+/// The phase `θ = Σ_j k_j·x_j` of `e^{−2πik·x}` modulo 1, as a double-double
+/// in about `[−D/2, D/2]`: each product `k_j x_j` is formed exactly
+/// ([`crate::num::two_prod`]), its integer part removed from the leading term
+/// (exact), and the pieces summed in double-double, so no fractional bit is
+/// lost however large `|k|` or `|x|` are. Pass it to [`cis_turns`].
+#[inline]
+#[must_use]
+pub fn dot_turns<const D: usize>(k: &[i32; D], x: &[f64; D]) -> Dd {
+    let mut acc = Dd::ZERO;
+    for j in 0..D {
+        let (p, e) = super::dd::two_prod(f64::from(k[j]), x[j]);
+        acc = acc.add(Dd::new(p - libm::round(p))).add(Dd::new(e));
+    }
+    acc
+}
+
 /// `sinc(t) = sin(πt)/(πt)` (1 at 0) for a double `t`: absolute error ≤ 2 ulp
 /// of 1 for any `|t|` ([`sinc_dd`] of the exact `t`).
 #[inline]
