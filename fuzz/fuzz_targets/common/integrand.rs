@@ -178,9 +178,9 @@ pub fn check<const D: usize>(
     }
     for (i, (r, unit)) in lanes.iter().enumerate() {
         let s = f.segment_free_f32(r.o, r.d, r.t0, r.t1);
-        assert_eq!(
-            out[i].to_bits(),
-            s.to_bits(),
+        // Bit for bit; two NaNs count as equal (their payloads carry no meaning).
+        assert!(
+            out[i].to_bits() == s.to_bits() || (out[i].is_nan() && s.is_nan()),
             "lane {i} of {n}: SIMD {} vs scalar {s} for {r:?}",
             out[i]
         );
