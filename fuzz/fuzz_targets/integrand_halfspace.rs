@@ -43,6 +43,16 @@ fn f32_ref<const D: usize>(hs: &HalfSpace<D>, r: &Ray32<D>) -> Option<(f64, f64)
         let osum: f64 = o.iter().map(|x| x.abs()).sum();
         bound += 8.0 * u * (1.0 + osum + h.abs() + ts) / nd.abs();
     }
+    if nd == 0.0 {
+        // A ray parallel to the edge is "kept or dropped whole" (the kernel's doc,
+        // in words; its stated bound omits it): when the side is decided by less
+        // than the f32 rounding of n·o − h, or by a distance below the smallest
+        // normal f32 (o and h underflow), the whole slab chord may flip.
+        let no_abs: f64 = (0..D).map(|j| (n[j] * o[j]).abs()).sum();
+        if (no - h).abs() <= 8.0 * u * (no_abs + h.abs()) + 2.0 * f64::from(f32::MIN_POSITIVE) {
+            bound += (D as f64).sqrt(); // the largest chord of the unit box
+        }
+    }
     Some((want, bound))
 }
 
