@@ -1,5 +1,6 @@
 //! Fuzzes `Ccvt` (capacity-constrained Voronoi point sets) with arbitrary
-//! parameters, kept small enough to run in about a millisecond.
+//! parameters, kept small (`N, c ≤ 16`, at most 30 iterations) so that one run
+//! takes about a millisecond.
 //!
 //! Checks, recomputed here from the result (not from the kernel's helpers):
 //! * rejected parameters are errors; `N` sites and `N·c` discrete points, all in
@@ -14,7 +15,7 @@
 //! * when `converged()`, no pair of sites can lower the energy by exchanging one
 //!   point each: `max_x h_i(x) + max_y h_j(y) ≤ 1e−12` for all pairs (the stopping
 //!   rule, checked over all pairs rather than the kernel's neighbour pairs);
-//! * the result is a function of the seed.
+//! * the result is a function of the seed (checked for `N·c ≤ 64`).
 //!
 //! Run: `cargo fuzz run --sanitizer none ccvt`.
 
@@ -46,8 +47,8 @@ fn dist2<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
 fn run<const D: usize>(inp: &Input) {
     // Constructors: any value is accepted or rejected without a panic.
     let _ = Ccvt::<D>::new(inp.n as usize);
-    let n = 1 + (inp.n % 24) as usize;
-    let c = 1 + (inp.capacity % 24) as usize;
+    let n = 1 + (inp.n % 16) as usize;
+    let c = 1 + (inp.capacity % 16) as usize;
     let Ok(base) = Ccvt::<D>::new(n) else {
         panic!("n = {n} rejected")
     };
@@ -55,7 +56,7 @@ fn run<const D: usize>(inp: &Input) {
     let _ = base.clone().max_iterations(inp.iterations as usize);
     let cc = base.capacity(c).unwrap();
     let cc = cc
-        .max_iterations(1 + (inp.iterations % 60) as usize)
+        .max_iterations(1 + (inp.iterations % 30) as usize)
         .unwrap();
     let cc = match cc.clone().jitter(inp.jitter) {
         Ok(j) => {
@@ -174,8 +175,10 @@ fn run<const D: usize>(inp: &Input) {
             }
         }
     }
-    let again = cc.generate(seed);
-    assert_eq!(again.sites_f64(), sites);
+    if m <= 64 {
+        let again = cc.generate(seed);
+        assert_eq!(again.sites_f64(), sites, "not a function of the seed");
+    }
 }
 
 fuzz_target!(|inp: Input| {

@@ -188,7 +188,7 @@ fn run<const D: usize, const K: usize>(inp: &Input) {
     }
     // run_realisations: one range vs the merge of its parts.
     let first = u64::from(inp.first);
-    let count = u64::from(inp.count % 24);
+    let count = u64::from(inp.count % 12);
     let all = run_realisations(
         est.as_ref(),
         f.as_ref(),

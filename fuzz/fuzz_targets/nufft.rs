@@ -1,6 +1,8 @@
 //! Fuzzes the lab's NUFFT plan (`linesample_lab::nufft::Plan`): construction with
-//! arbitrary half-widths, tolerances and upsampling, and execution with arbitrary
-//! points (any finite or non-finite `f64`) and real weights.
+//! arbitrary half-widths, tolerances (any `f64`) and upsampling, and execution, on
+//! plans of tolerances `1e−1 … 1e−14` (cached per thread: building a plan is the
+//! slow part), with arbitrary points (any finite or non-finite `f64`) and real
+//! weights.
 //!
 //! Checks:
 //! * bad input is an error, never a panic: `tol` NaN or `≤ 0`
@@ -23,13 +25,19 @@
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use linesample::spectrum::{Dft, Grid};
-use linesample_lab::nufft::{NufftError, Plan, Upsampling};
+use linesample_lab::nufft::{NufftError, Plan, Upsampling, MAX_TOL, MIN_TOL};
+use std::any::Any;
+use std::cell::RefCell;
+use std::collections::HashMap;
 
 #[derive(Arbitrary, Debug)]
 struct Input {
     dims: u8,
     k: u8,
     tol: f64,
+    /// Below 240: a cached plan of tolerance `10^−(1 + class mod 14)` is executed;
+    /// from 240: a plan of tolerance `tol` (any `f64`) is only constructed.
+    tol_class: u8,
     sigma: Option<bool>,
     weighted: bool,
     coords: Vec<f64>,
@@ -37,26 +45,65 @@ struct Input {
     bad_len: bool,
 }
 
+thread_local! {
+    /// Plans by (D, k, tolerance class, σ): building one is far more work than
+    /// executing it on a few points, so execution reuses them.
+    static PLANS: RefCell<HashMap<(usize, usize, u8, u8), Box<dyn Any>>> =
+        RefCell::new(HashMap::new());
+}
+
+fn build<const D: usize>(k: usize, tol: f64, sigma: Option<bool>) -> Result<Plan<D>, NufftError> {
+    match sigma {
+        None => Plan::<D>::new(k, tol),
+        Some(true) => Plan::<D>::with_upsampling(k, tol, Upsampling::Two),
+        Some(false) => Plan::<D>::with_upsampling(k, tol, Upsampling::FiveQuarters),
+    }
+}
+
 fn run<const D: usize>(inp: &Input) {
     let k = 1 + usize::from(inp.k) % [48, 12, 5][D - 1];
-    let built = match inp.sigma {
-        None => Plan::<D>::new(k, inp.tol),
-        Some(true) => Plan::<D>::with_upsampling(k, inp.tol, Upsampling::Two),
-        Some(false) => Plan::<D>::with_upsampling(k, inp.tol, Upsampling::FiveQuarters),
-    };
-    let mut plan = match built {
-        Ok(p) => p,
-        Err(NufftError::Tolerance(t)) => {
-            assert!(t.is_nan() || t <= 0.0, "tol {t} rejected");
-            return;
+    if inp.tol_class >= 240 {
+        // Construction with an arbitrary tolerance (rarely: it is the slow part).
+        match build::<D>(k, inp.tol, inp.sigma) {
+            Ok(p) => {
+                assert!(
+                    !(inp.tol.is_nan() || inp.tol <= 0.0),
+                    "tol {} accepted",
+                    inp.tol
+                );
+                let t = p.tolerance();
+                assert!(
+                    (MIN_TOL..=MAX_TOL).contains(&t),
+                    "tolerance {t} not clamped"
+                );
+                assert_eq!(p.half_width(), k);
+            }
+            Err(NufftError::Tolerance(t)) => {
+                assert!(t.is_nan() || t <= 0.0, "tol {t} rejected");
+            }
+            Err(e) => panic!("k = {k}, tol = {}: {e}", inp.tol),
         }
-        Err(e) => panic!("k = {k}, tol = {}: {e}", inp.tol),
-    };
-    assert!(
-        !(inp.tol.is_nan() || inp.tol <= 0.0),
-        "tol {} accepted",
-        inp.tol
-    );
+        return;
+    }
+    let class = inp.tol_class % 14;
+    let tol = 10f64.powi(-1 - i32::from(class));
+    let key = (D, k, class, inp.sigma.map_or(0, |s| 1 + u8::from(s)));
+    PLANS.with(|cell| {
+        let mut plans = cell.borrow_mut();
+        if plans.len() > 512 {
+            plans.clear();
+        }
+        let entry = plans
+            .entry(key)
+            .or_insert_with(|| Box::new(build::<D>(k, tol, inp.sigma).expect("valid plan")));
+        let plan = entry
+            .downcast_mut::<Plan<D>>()
+            .expect("plan of dimension D");
+        execute(plan, k, inp);
+    });
+}
+
+fn execute<const D: usize>(plan: &mut Plan<D>, k: usize, inp: &Input) {
     let eps = plan.tolerance();
     let pts: Vec<[f64; D]> = inp
         .coords

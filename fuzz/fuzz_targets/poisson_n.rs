@@ -38,7 +38,7 @@ fn run<const D: usize>(inp: &Input) {
     if inp.dart {
         disk = disk.with_method(PoissonMethod::MaximalDartThrowing);
     }
-    if disk.max_points() > 1500 || disk.scratch_len() > 1 << 18 {
+    if disk.max_points() > 300 || disk.scratch_len() > 1 << 14 {
         return;
     }
     let seed = Seed::new(inp.seed);

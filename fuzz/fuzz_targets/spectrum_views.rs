@@ -1,5 +1,5 @@
 //! Fuzzes the derived views of a periodogram on grids beyond `k = 12`
-//! (1D up to `k = 400`, 2D up to 40, 3D up to 14): `radial_average`, `slice`,
+//! (1D up to `k = 300`, 2D up to 32, 3D up to 13): `radial_average`, `slice`,
 //! `predict_variance`, `radial_variance`, `Grid::radial_mean_of`, and the line
 //! spectrum (`line_offsets` + `line_spectrum`), for points and segments.
 //!
@@ -75,7 +75,7 @@ fn close(a: f64, b: f64, scale: f64, what: &str) {
 }
 
 fn run<const D: usize>(inp: &Input) {
-    let k = 1 + usize::from(inp.k) % [400, 40, 14][D - 1];
+    let k = 1 + usize::from(inp.k) % [300, 32, 13][D - 1];
     let grid = Grid::<D>::new(k).unwrap();
     let pts: Vec<[f64; D]> = inp
         .coords
