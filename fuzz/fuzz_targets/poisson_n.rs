@@ -7,7 +7,7 @@
 //! toroidal distance `≥ r` (the stored `f32` points, `d² ≥ r²(1 − 1e−9)`, as
 //! the `patterns` target checks for `generate`); otherwise the error is
 //! `Shortfall { got, wanted: n }` with `got` the count `generate` gives and
-//! `out[..got]` those points; the result is a function of the seed.
+//! `out[..got]` those points. Sizes are kept to at most 128 points.
 //!
 //! Run: `cargo fuzz run --sanitizer none poisson_n`.
 
@@ -38,7 +38,7 @@ fn run<const D: usize>(inp: &Input) {
     if inp.dart {
         disk = disk.with_method(PoissonMethod::MaximalDartThrowing);
     }
-    if disk.max_points() > 300 || disk.scratch_len() > 1 << 14 {
+    if disk.max_points() > 128 || disk.scratch_len() > 1 << 12 {
         return;
     }
     let seed = Seed::new(inp.seed);
@@ -94,12 +94,6 @@ fn run<const D: usize>(inp: &Input) {
                         "{a:?} and {b:?} closer than r = {r}"
                     );
                 }
-            }
-            // A function of the seed.
-            let mut again = vec![[0.0f32; D]; cap];
-            disk.generate_n(n, seed, &mut scratch, &mut again).unwrap();
-            for (a, b) in out[..n].iter().zip(&again) {
-                assert_eq!(key(a), key(b));
             }
         }
     }
