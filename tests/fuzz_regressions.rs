@@ -1,4 +1,4 @@
-//! Inputs the integrand fuzzers found (fuzz/fuzz_targets/integrand_*.rs), kept
+//! Inputs the fuzzers found (fuzz/fuzz_targets/*.rs), kept
 //! as unit tests so every CI run checks them (the subnormal-length finding is in
 //! tests/estimators.rs).
 
@@ -72,4 +72,53 @@ fn ball_chord_never_exceeds_the_segment() {
     assert_eq!(b.segment_free(&p, &d, r, r), 0.0);
     let v = b.segment_free(&p, &d, r, f64::INFINITY);
     assert!(v <= 2.0 * r, "{v:e}");
+}
+
+/// Found by the `geometry` fuzz target: a line through a point far along its own
+/// direction, `p = (v, v, v)` with `v = 3.53e30` on the main diagonal. `Line::new`
+/// rounds the foot parameter `τ ≈ −6.1e30` to a double, so the stored point is
+/// `≈ ulp(τ)·|ω| ≈ 8.7e14` away from the box (at `(−5.0e14, …)`, not near the
+/// centre as documented), the clipping parameters are `≈ 8.7e14` (ulp 0.125) and
+/// the chord comes out as 1.75 instead of `√3 = 1.7320508…`: every line integral
+/// along such a line is 1 % off. Fails until `Line::new` repeats its projection
+/// from the rounded point (each pass shrinks the distance to the foot by `≈ 2⁻⁵²`).
+#[test]
+fn line_far_along_its_direction_keeps_its_chord() {
+    let v = 3.5295369653413445e30;
+    let d = Direction::new([1.0, 1.0, 1.0]).unwrap();
+    let line = Line::new([v, v, v], d).unwrap();
+    let q = line.point();
+    // The stored point is (nearly) the point of the line nearest the box centre.
+    for x in q {
+        assert!((x - 0.5).abs() < 1e-9, "stored point {q:?}");
+    }
+    let (t0, t1) = linesample::geom::clip_to_unit_box(&q, &d).expect("the diagonal hits the box");
+    let chord = t1 - t0;
+    assert!(
+        (chord - 3f64.sqrt()).abs() <= 8.0 * f64::EPSILON,
+        "chord {chord} vs √3"
+    );
+    // The integrands see it too: f ≡ 1 on the box integrates to the chord.
+    let one = HalfSpace::<3>::new(Direction::axis(0).unwrap(), -1.0).unwrap();
+    let li = one.line_integral(&line);
+    assert!(
+        (li - 3f64.sqrt()).abs() <= 8.0 * f64::EPSILON,
+        "line integral {li}"
+    );
+    // A 2D line far along its direction: through (2¹⁰⁰, 2¹⁰¹) along (1, 2), i.e.
+    // y = 2x through the origin, whose foot of the centre is (0.3, 0.6) and
+    // whose chord runs from (0, 0) to (0.5, 1), of length √1.25.
+    let d2 = Direction::new([1.0, 2.0]).unwrap();
+    let far = Line::new([2f64.powi(100), 2f64.powi(101)], d2).unwrap();
+    let q2 = far.point();
+    assert!(
+        (q2[0] - 0.3).abs() < 1e-12 && (q2[1] - 0.6).abs() < 1e-12,
+        "stored point {q2:?}"
+    );
+    let (t0, t1) = linesample::geom::clip_to_unit_box(&q2, &d2).unwrap();
+    assert!(
+        (t1 - t0 - 1.25f64.sqrt()).abs() <= 8.0 * f64::EPSILON,
+        "chord {}",
+        t1 - t0
+    );
 }

@@ -10,5 +10,9 @@
 //!   F(ν) = Σ_k c_k · exp(−2πi ν·x_k), to a user tolerance (exponential of
 //!   semicircle kernel, Barnett, Magland & af Klinteberg, SIAM J. Sci.
 //!   Comput. 41(5), 2019).
+//! - [`pointfile`]: the parser of the plain-text point files that
+//!   `linesample-lab spectrum --input` reads (text in, points or an error
+//!   naming the line and column out).
 
 pub mod nufft;
+pub mod pointfile;

@@ -25,7 +25,7 @@ use linesample::Seed;
 use crate::plot::xml_escape;
 use crate::sampler::{self, Sampler, Spec};
 use crate::{output, png};
-use linesample_lab::nufft;
+use linesample_lab::{nufft, pointfile};
 
 /// The CSV header.
 pub const CSV_HEADER: &str = "radius,mean_np,std_error,count";
@@ -384,8 +384,9 @@ pub fn default_k(n: usize, grid_dims: usize) -> usize {
     k.min(DEFAULT_K_CAP[grid_dims.clamp(1, 3) - 1])
 }
 
-/// Reads one point file (format in [`FORMATS`]); returns its dimension,
-/// flat coordinates wrapped into `[0, 1)`, and notes.
+/// Reads one point file (format in [`FORMATS`], parsed by
+/// [`pointfile::parse_points`]); returns its dimension, flat coordinates
+/// wrapped into `[0, 1)`, and notes.
 fn read_points(path: &Path, notes: &mut Vec<String>) -> Result<(usize, Vec<f64>), String> {
     let name = path.display();
     let bytes = std::fs::read(path).map_err(|e| format!("cannot read --input {name}: {e}"))?;
@@ -395,83 +396,29 @@ fn read_points(path: &Path, notes: &mut Vec<String>) -> Result<(usize, Vec<f64>)
             e.utf8_error().valid_up_to()
         )
     })?;
-    let data: Vec<(usize, Vec<&str>)> = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l.trim()))
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'))
-        .map(|(i, l)| (i, l.split_whitespace().collect()))
-        .collect();
-    let mut rows = &data[..];
-    if let [(line, first), (_, second), ..] = rows {
-        if first.len() == 1 && second.len() > 1 {
-            if let Ok(count) = first[0].parse::<u64>() {
-                let points = rows.len() - 1;
-                notes.push(format!(
-                    "{name}, line {line}: skipped the header line '{count}' (a point count, as \
-                     UTK writes){}",
-                    if count as usize == points {
-                        String::new()
-                    } else {
-                        format!("; the file has {points} points")
-                    }
-                ));
-                rows = &rows[1..];
-            }
-        }
-    }
-    let Some((first_line, first)) = rows.first() else {
-        return Err(format!(
-            "{name}: no points (the file is empty or only comments)"
-        ));
-    };
-    let dims = first.len();
-    if !(1..=3).contains(&dims) {
-        return Err(format!(
-            "{name}, line {first_line}: {dims} columns; expected 1 to 3 coordinates per point"
-        ));
-    }
-    let mut coords = Vec::with_capacity(rows.len() * dims);
-    let mut wrapped = 0usize;
-    for (line, toks) in rows {
-        if toks.len() != dims {
-            return Err(format!(
-                "{name}, line {line}: {} columns, but the first point (line {first_line}) has \
-                 {dims}",
-                toks.len()
-            ));
-        }
-        for (c, t) in toks.iter().enumerate() {
-            let x: f64 = t.parse().map_err(|_| {
-                format!(
-                    "{name}, line {line}, column {}: '{t}' is not a number",
-                    c + 1
-                )
-            })?;
-            if !x.is_finite() {
-                return Err(format!(
-                    "{name}, line {line}, column {}: '{t}' is not a finite number",
-                    c + 1
-                ));
-            }
-            let mut w = x;
-            if !(0.0..1.0).contains(&x) {
-                wrapped += 1;
-                w = x - x.floor();
-                // A tiny negative x rounds to 1.
-                if w >= 1.0 {
-                    w = 0.0;
-                }
-            }
-            coords.push(w);
-        }
-    }
-    if wrapped > 0 {
+    let set = pointfile::parse_points(&text).map_err(|e| match e.line() {
+        Some(_) => format!("{name}, {e}"),
+        None => format!("{name}: {e}"),
+    })?;
+    if let Some(h) = set.header {
         notes.push(format!(
-            "{name}: wrapped {wrapped} coordinate(s) outside [0, 1) onto the torus (x - floor(x))"
+            "{name}, line {}: skipped the header line '{}' (a point count, as UTK writes){}",
+            h.line,
+            h.count,
+            if h.count as usize == h.points {
+                String::new()
+            } else {
+                format!("; the file has {} points", h.points)
+            }
         ));
     }
-    Ok((dims, coords))
+    if set.wrapped > 0 {
+        notes.push(format!(
+            "{name}: wrapped {} coordinate(s) outside [0, 1) onto the torus (x - floor(x))",
+            set.wrapped
+        ));
+    }
+    Ok((set.dims, set.coords))
 }
 
 fn resolve(a: &SpectrumArgs) -> Result<Config, String> {

@@ -10,8 +10,12 @@
 //!   `segment_integral ∈ [0, λ·max_value]`, `line_integral ∈ [0, √D·max_value]`;
 //! * `segment_free ∈ [0, (t1 − t0)·sup F]` and `≤ the full line`;
 //! * `|fourier(k)| ≤ integral`;
-//! * the `f32` batch equals its scalar twin bit for bit and is finite where its
-//!   inputs are moderate.
+//! * the `f32` batch, one ray per probe (every lane different, up to
+//!   [`MAX_LANES`] lanes: two SIMD blocks and a remainder), equals its scalar twin
+//!   bit for bit, lane by lane; where a lane is moderate (unit direction,
+//!   `|o| < 1e6`, one end below `1e6`) it is non-negative and within the
+//!   integrand's documented `f32`-vs-`f64` bound of the `f64` path at the same
+//!   inputs (the target's `f32_ref` gives the reference and the bound).
 //!
 //! Segment lengths are capped at 64 (longer wrapped segments only cost time,
 //! linearly: `MAX_SEGMENT_LENGTH` is 2²⁰).
@@ -33,6 +37,42 @@ pub struct Probe<const D: usize> {
     pub k: [i32; D],
 }
 
+/// Most lanes in one batch: two 8-wide blocks and a remainder.
+pub const MAX_LANES: usize = 19;
+
+/// One `f32` ray of the batch: `o + t·d`, `t ∈ [t0, t1]`.
+#[derive(Debug, Clone, Copy)]
+pub struct Ray32<const D: usize> {
+    pub o: [f32; D],
+    pub d: [f32; D],
+    pub t0: f32,
+    pub t1: f32,
+}
+
+impl<const D: usize> Ray32<D> {
+    /// The ray in `f64` with a unit direction and the ends rescaled to its arc
+    /// length, and `|d|` (`None` for a zero or non-finite `d`).
+    pub fn to_f64(&self) -> Option<([f64; D], Direction<D>, f64, f64, f64)> {
+        let o = self.o.map(f64::from);
+        let d = self.d.map(f64::from);
+        let nd = d.iter().map(|x| x * x).sum::<f64>().sqrt();
+        if !(nd.is_finite() && nd > 0.0) {
+            return None;
+        }
+        let dir = Direction::new(d).ok()?;
+        Some((o, dir, f64::from(self.t0) * nd, f64::from(self.t1) * nd, nd))
+    }
+}
+
+/// `|t|` for finite `t`, else 0 (the finite ends that enter an error bound).
+pub fn fin(t: f32) -> f64 {
+    if t.is_finite() {
+        f64::from(t).abs()
+    } else {
+        0.0
+    }
+}
+
 fn within(v: f64, hi: f64, what: &str) {
     assert!(v.is_finite(), "{what} = {v} is not finite");
     assert!(v >= 0.0, "{what} = {v} < 0");
@@ -46,6 +86,7 @@ pub fn check<const D: usize>(
     sup_free: f64,
     line_free: f64,
     probes: &[Probe<D>],
+    f32_ref: &dyn Fn(&Ray32<D>) -> Option<(f64, f64)>,
 ) {
     let max = f.max_value();
     let integral = f.integral();
@@ -99,34 +140,67 @@ pub fn check<const D: usize>(
                 within(v, bound, "segment_free");
             }
         }
-        // f32 batch vs its scalar twin, on 9 rays (one SIMD block + remainder).
+    }
+    // f32 batch vs its scalar twin and the f64 path, on one ray per probe: every
+    // lane has its own origin, direction and ends (a splatted batch would hide a
+    // lane mix-up or a wrong remainder loop).
+    let mut lanes: Vec<(Ray32<D>, bool)> = Vec::new();
+    for p in probes.iter().take(MAX_LANES) {
         let o: [f32; D] = core::array::from_fn(|j| p.x[j] as f32);
-        let d: [f32; D] = core::array::from_fn(|j| dir.get()[j] as f32);
+        // A unit direction where one exists (the moderate case the bounds are
+        // stated for), the raw one otherwise (only the bit-for-bit check).
+        let unit = Direction::new(p.dir).ok();
+        let d: [f32; D] = match unit {
+            Some(u) => u.get().map(|x| x as f32),
+            None => p.dir.map(|x| x as f32),
+        };
         let (t0, t1) = (p.t0 as f32, p.t1 as f32);
         let (t0, t1) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-        let ox: [Vec<f32>; D] = core::array::from_fn(|j| vec![o[j]; 9]);
-        let dx: [Vec<f32>; D] = core::array::from_fn(|j| vec![d[j]; 9]);
-        let ts0 = vec![t0; 9];
-        let ts1 = vec![t1; 9];
-        let rays = Rays32 {
-            origin: core::array::from_fn(|j| ox[j].as_slice()),
-            dir: core::array::from_fn(|j| dx[j].as_slice()),
-            t0: &ts0,
-            t1: &ts1,
-        };
-        let mut out = vec![0.0f32; 9];
-        f.segment_free_batch_f32(&rays, &mut out).unwrap();
-        let s = f.segment_free_f32(o, d, t0, t1);
-        for v in &out {
-            assert_eq!(v.to_bits(), s.to_bits(), "SIMD {v} vs scalar {s}");
+        lanes.push((Ray32 { o, d, t0, t1 }, unit.is_some()));
+    }
+    let n = lanes.len();
+    let ox: [Vec<f32>; D] = core::array::from_fn(|j| lanes.iter().map(|(r, _)| r.o[j]).collect());
+    let dx: [Vec<f32>; D] = core::array::from_fn(|j| lanes.iter().map(|(r, _)| r.d[j]).collect());
+    let ts0: Vec<f32> = lanes.iter().map(|(r, _)| r.t0).collect();
+    let ts1: Vec<f32> = lanes.iter().map(|(r, _)| r.t1).collect();
+    let rays = Rays32 {
+        origin: core::array::from_fn(|j| ox[j].as_slice()),
+        dir: core::array::from_fn(|j| dx[j].as_slice()),
+        t0: &ts0,
+        t1: &ts1,
+    };
+    let mut out = vec![f32::NAN; n];
+    f.segment_free_batch_f32(&rays, &mut out).unwrap();
+    if n > 0 {
+        // A batch whose slices disagree in length is an error, not a panic.
+        let mut short = vec![0.0f32; n - 1];
+        assert!(f.segment_free_batch_f32(&rays, &mut short).is_err());
+    }
+    for (i, (r, unit)) in lanes.iter().enumerate() {
+        let s = f.segment_free_f32(r.o, r.d, r.t0, r.t1);
+        // Bit for bit; two NaNs count as equal (their payloads carry no meaning).
+        assert!(
+            out[i].to_bits() == s.to_bits() || (out[i].is_nan() && s.is_nan()),
+            "lane {i} of {n}: SIMD {} vs scalar {s} for {r:?}",
+            out[i]
+        );
+        let moderate = *unit
+            && r.o.iter().all(|v| v.abs() < 1e6)
+            && r.d.iter().any(|&v| v != 0.0)
+            && !r.t0.is_nan()
+            && !r.t1.is_nan()
+            && r.t0.abs().min(r.t1.abs()) < 1e6;
+        if !moderate {
+            continue;
         }
-        let moderate = o.iter().all(|v| v.abs() < 1e6)
-            && !t0.is_nan()
-            && !t1.is_nan()
-            && t0.abs().min(t1.abs()) < 1e6;
-        if moderate {
-            assert!(!s.is_nan(), "f32 result NaN for {o:?} {d:?} [{t0}, {t1}]");
-            assert!(s >= 0.0, "f32 result {s} < 0");
+        assert!(!s.is_nan(), "f32 result NaN for {r:?}");
+        assert!(s >= 0.0, "f32 result {s} < 0 for {r:?}");
+        if let Some((want, bound)) = f32_ref(r) {
+            let err = (f64::from(s) - want).abs();
+            assert!(
+                err <= bound,
+                "lane {i}: f32 {s:e} vs f64 {want:e}: error {err:e} > stated bound {bound:e} for {r:?}"
+            );
         }
     }
 }
