@@ -778,7 +778,9 @@ impl<const D: usize> Plan<D> {
 
     /// `F(ν) = Σ_k c_k exp(−2πi ν·x_k)` with real weights `c_k = weights[k]`
     /// on the half grid (as [`Plan::transform`]); `weights` must have one
-    /// finite entry per point.
+    /// finite entry per point. Weights near the `f64` range (`|c| ≳ 1e300`)
+    /// can overflow the spread grid to `±∞`/NaN; scale them first (the
+    /// transform is linear).
     pub fn transform_weighted(
         &mut self,
         points: &[[f64; D]],

@@ -514,8 +514,10 @@ impl<const D: usize> Integrand<D> for Ball<D> {
     /// `≈ ε₃₂·(|t0| + |t1| + |t±|)`. The tests measure at most `2.2×` that model;
     /// e.g. for `L ≤ 1`: `≤ 1e-6·r` (`r = 0.1`) and `≤ 1e-4·r` (`r = 10⁻³`)
     /// for `d⊥ ≤ r/2`, `≤ 2e-3·r` (`r = 0.1`) and `≤ 2e-2·r` (`r = 10⁻³`)
-    /// within `10⁻⁶r` of tangency. The centre is the reduced centre rounded to
-    /// `f32`. Bad input (no panic): `t0 > t1` gives 0, a NaN or infinite
+    /// within `10⁻⁶r` of tangency. The model assumes `r²` is a normal `f32`:
+    /// for `r ≲ 1e−19` it underflows and `δ` gains about `4·2⁻¹⁴⁹` (found by
+    /// the `integrand_ball` fuzz target). The centre is the reduced centre
+    /// rounded to `f32`. Bad input (no panic): `t0 > t1` gives 0, a NaN or infinite
     /// origin gives 0, a NaN end is treated as unbounded; `d` must be non-zero
     /// (the result for `d = 0` is unspecified).
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {

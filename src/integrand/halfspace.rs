@@ -428,7 +428,11 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
     /// bound is asserted in `tests/integrand_halfspace.rs`, and the measured
     /// relative error on well-conditioned rays (`|n·d| > 0.1`, result `> 0.1`)
     /// is `≈ 3e−6`. It degrades as `1/|n·d|`: a ray almost parallel to the edge is
-    /// ill-conditioned and may be kept or dropped whole. `t0 > t1` returns 0; NaN
+    /// ill-conditioned and may be kept or dropped whole. A ray exactly parallel
+    /// (`n·d = 0`) is outside the bound: when `|n·o − h|` is within the `f32`
+    /// rounding of its terms, or below `f32::MIN_POSITIVE` (e.g. `o = 1e−309`,
+    /// `h = 4.6e−228` both round to 0), the whole chord (up to `√D`) may flip
+    /// between 0 and its length (found by the `integrand_halfspace` fuzz target). `t0 > t1` returns 0; NaN
     /// inputs return 0 or NaN, never panic; infinite `t0`/`t1` are fine for a
     /// non-zero `d`.
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
