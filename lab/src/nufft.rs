@@ -847,8 +847,7 @@ impl<const D: usize> Plan<D> {
                             value: *x,
                         });
                     }
-                    let y = *x - x.floor();
-                    *x = if y >= 1.0 { 0.0 } else { y };
+                    *x = linesample::num::frac(*x);
                 }
                 wrapped.push(q);
             }

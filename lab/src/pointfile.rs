@@ -17,6 +17,7 @@
 //!   result that rounds to 1 (a tiny negative `x`) is stored as 0
 //!   ([`PointSet::wrapped`] counts them).
 
+use linesample::num::frac;
 use std::fmt;
 
 /// A skipped point-count header line.
@@ -155,17 +156,6 @@ impl fmt::Display for PointFileError {
 
 impl std::error::Error for PointFileError {}
 
-/// `x − ⌊x⌋ ∈ [0, 1)` for finite `x`; a result that rounds to 1 (a tiny
-/// negative `x`) is 0.
-fn wrap(x: f64) -> f64 {
-    let w = x - x.floor();
-    if w >= 1.0 {
-        0.0
-    } else {
-        w
-    }
-}
-
 /// Parses the text of a point file (rules in the [module docs](self)).
 ///
 /// # Errors
@@ -230,7 +220,7 @@ pub fn parse_points(text: &str) -> Result<PointSet, PointFileError> {
                 coords.push(x);
             } else {
                 wrapped += 1;
-                coords.push(wrap(x));
+                coords.push(frac(x));
             }
         }
     }
