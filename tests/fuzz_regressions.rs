@@ -122,3 +122,25 @@ fn line_far_along_its_direction_keeps_its_chord() {
         t1 - t0
     );
 }
+
+/// Found by the `integrand_ball` fuzz target after the boundary-accuracy work:
+/// the whole line `y = x` given through `(2.4e35, 2.4e35)`. One re-basing
+/// leaves the point `≈ ulp(τ) ≈ 2⁶⁵` from the foot; the double-double
+/// discriminant then loses everything (`2⁻¹⁰⁶·e² ≫ r²`) and the chord came out
+/// as 2048 (before the boundary work, the quick rejection made it 0). The
+/// exact chord is `2√(r² − d²)` with `d = |c₀ − c₁|/√2`.
+#[test]
+fn ball_seen_from_far_along_the_line_keeps_its_chord() {
+    let c = [5.207212544768901e-5, 3.2599286142070292e-307];
+    let r = 0.13088992484936526;
+    let b = Ball::<2>::new(c, r).unwrap();
+    let d = Direction::new([1.0, 1.0]).unwrap();
+    let v = 2.417370521746097e35;
+    let got = b.segment_free(&[v, v], &d, f64::NEG_INFINITY, f64::INFINITY);
+    let dist = (c[0] - c[1]) / 2f64.sqrt();
+    let want = 2.0 * ((r - dist) * (r + dist)).sqrt();
+    assert!(
+        ((got - want) / want).abs() < 1e-14,
+        "chord {got:e} vs {want:e}"
+    );
+}

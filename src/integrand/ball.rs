@@ -343,11 +343,40 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         qn += q[j].hi.abs();
     }
     // Re-base at (nearly) the foot of the perpendicular: exact shift by τ.
-    let tau = -bh / a.hi;
+    let tau1 = -bh / a.hi;
     let mut qp = [Dd::new(0.0); D];
+    for j in 0..D {
+        qp[j] = q[j].add(Dd::prod(tau1, w[j]));
+    }
+    // The rounding of τ leaves q' about (D + 2)u|q| from the foot along ω; the
+    // double-double q' holds that offset accurately, so further passes shrink
+    // it to about u times itself. They are needed only when the offset e is so
+    // large that Δ's double-double error 2⁻¹⁰⁶e² is no longer far below r²
+    // (a ball seen from ≳ 2⁷⁹r along the line, found by fuzzing: a whole line
+    // through (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13); the test
+    // `e > 2²⁶r` keeps ordinary rays to one pass (bit-identical).
+    let mut tau = Dd::new(tau1);
+    let rf = libm::sqrt(r2.hi);
+    for _ in 0..8 {
+        let mut bp = 0.0;
+        let mut qpn = 0.0;
+        for j in 0..D {
+            bp += qp[j].hi * w[j];
+            qpn += qp[j].hi.abs();
+        }
+        let t = -bp / a.hi;
+        if !(t.abs() * libm::sqrt(a.hi) > 67_108_864.0 * rf) {
+            break;
+        }
+        for j in 0..D {
+            qp[j] = qp[j].add(Dd::prod(t, w[j]));
+        }
+        tau = tau.add(Dd::new(t));
+        qn = qpn;
+    }
+    let tau = tau.to_f64();
     let mut d2 = 0.0;
     for j in 0..D {
-        qp[j] = q[j].add(Dd::prod(tau, w[j]));
         d2 += qp[j].hi * qp[j].hi;
     }
     // Quick, safe rejection: d2 is within a few ulp of the exact |q'|², and
