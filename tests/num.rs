@@ -14,8 +14,8 @@
 //! and `sinc` within 2 ulp of 1 of the exact-phase reference.
 
 use linesample::num::{
-    cis_turns, frac, frac_centered, sinc, to_unit_f32, torus_delta, torus_dist, two_prod, two_sum,
-    Dd,
+    cis_turns, frac, frac_centered, sinc, sum_accurate, to_unit_f32, torus_delta, torus_dist,
+    two_prod, two_sum, Dd,
 };
 use num_bigint::BigInt;
 use proptest::prelude::*;
@@ -207,6 +207,26 @@ proptest! {
         let er = Exact::of_dd(r);
         let resid = er.mul(&er).sub(&ex);
         prop_assert!(resid.within(&ex, 8, U2), "√{x:?} = {r:?}");
+    }
+
+    /// Sums of up to 62 doubles that cancel to 10⁻³⁶ of their magnitude (the
+    /// constant term of a re-based quadratic): relative error ≤ 4u².
+    #[test]
+    fn accurate_sum_survives_cancellation(xs in proptest::collection::vec(double(-40, 40), 1..31), tiny in double(-120, -60)) {
+        let mut t: Vec<f64> = Vec::new();
+        for &x in &xs {
+            t.push(x);
+            t.push(-x);
+        }
+        t.push(tiny);
+        // Interleave so that the cancelling pairs are far apart.
+        let n = t.len();
+        let mut u: Vec<f64> = (0..n).map(|i| t[(i * 7) % n]).collect();
+        if n % 7 == 0 { u = t.clone(); }
+        let exact = u.iter().fold(Exact::of(0.0), |acc, &x| acc.add(&Exact::of(x)));
+        let got = sum_accurate(&mut u.clone());
+        let err = Exact::of_dd(got).sub(&exact);
+        prop_assert!(err.within(&exact, 4, U2), "{got:?} vs tiny {tiny:e}");
     }
 
     #[test]

@@ -6,7 +6,7 @@ use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::{for_each_piece, Direction};
 use crate::num::lane::{load8, store8, F32Lane, LANES};
-use crate::num::{cis_turns, dot_turns, frac, two_prod, two_sum, Dd};
+use crate::num::{cis_turns, dot_turns, frac, sum_accurate, two_prod, two_sum, Dd};
 use crate::primitive::{Rays32, Segment};
 use core::f64::consts::PI;
 use wide::f32x8;
@@ -44,14 +44,18 @@ const TWO_PI: Dd = Dd {
 /// 2. the origin is moved along the line to (nearly) the foot of the
 ///    perpendicular, `q' = q + τω` with `τ ≈ −b/a` a double (`Dd::prod` is exact
 ///    and the accurate double-double addition has a relative error `≤ 3u²` of
-///    its result, `u = 2⁻⁵³`), so that `|q'| ≈ dist(c, line)`;
+///    its result, `u = 2⁻⁵³`), so that `|q'| ≈ dist(c, line)`; the step is
+///    repeated while the remaining offset along the line exceeds `2²⁶r` (a
+///    point given far along the line);
 /// 3. `Δ = b'² − a(|q'|² − r²)` in double-double, where now the only
 ///    cancellation is `|q'|²` against `r²`, harmless at `2⁻¹⁰⁴` precision;
 /// 4. `√Δ` is rounded once more by a Newton step, and `t± = τ − b'/a ± √Δ/a`;
 /// 5. an end `e ∈ {t0, t1}` within rounding distance of the chord is never
 ///    subtracted from a rounded root: the quadratic is re-based at it,
 ///    `a s² + 2b_e s + c_e = 0` for `s = t − e`, with `q_e = q + eω`,
-///    `b_e = q_e·ω` and `c_e = |q_e|² − r²` in double-double (exact products),
+///    `b_e = q_e·ω` in double-double and `c_e = |q_e|² − r²` summed exactly
+///    from error-free products in four-fold precision
+///    ([`crate::num::sum_accurate`]; it cancels to about `h·L` against `r²`),
 ///    and its roots taken from the cancellation-free pair
 ///    `s₁ = −(b_e + sign(b_e)√Δ)/a`, `s₂ = c_e/(a s₁)`, so a root next to the
 ///    end (`c_e → 0`) keeps its relative accuracy. The clipped length is then
@@ -63,15 +67,15 @@ const TWO_PI: Dd = Dd {
 /// error of a few ulp (about `3u + 2⁻¹⁰⁴/(1 − d/r)` for a line at distance `d`
 /// from the centre, i.e. a few ulp down to `1 − d/r ≈ 10⁻³⁰`) when the segment
 /// ends do not cut the chord. When they do, the relative error is at most
-/// `8u + 2⁻¹⁰⁰·(r²/(L·h) + r²/h²)` for a clipped length `L` and half chord
-/// `h`, so `≤ 1e−13` for segments that straddle, end at or lie next to the
-/// boundary whenever `r²/(L·h) ≤ 10¹⁶` and `h ≥ 10⁻⁸r` (e.g. any `L ≥ 10⁻¹⁵r`
-/// crossing with `h ≥ r/10`, or `L ≥ 10⁻¹²r` with `h ≥ 10⁻⁴r`); the two terms
-/// are the conditioning of a grazing crossing and of a near-tangent chord in
-/// double-double. A segment whose ends are inside by more than `2⁻¹⁰⁰r²/h`
-/// has length exactly `fl(t1 − t0)`. (Tested against exact dyadic arithmetic
-/// over radii `10⁻¹⁰⁰ … 1/2` in 2D and 3D: measured `≤ 3.3e−16` where the
-/// bound is `≤ 1e−14`, and `≤ 0.03×` the bound elsewhere.) The domain is
+/// `8u + 2⁻¹⁰⁰·(r/h + r²/h²)` for half chord `h`, **whatever the clipped
+/// length** `L`: `≤ 1e−13` for segments of any length that straddle, end at
+/// or lie next to the boundary, unless the line is within `h < 10⁻⁸r` of
+/// tangency (the `r/h` term is the double-double conditioning of `b_e`, the
+/// `r²/h²` term that of a near-tangent whole chord `2h`). A segment whose ends
+/// are inside by more than `2⁻¹⁰⁰r²/h` has length exactly `fl(t1 − t0)`.
+/// (Tested against exact dyadic arithmetic over radii `10⁻¹⁰⁰ … 1/2`, lengths
+/// down to `10⁻¹⁵·2r`, straddling, ending at, starting at, inside and grazing,
+/// in 2D and 3D: measured `≤ 3.3e−16` relative in every case.) The domain is
 /// `|p − c| ≲ 10¹⁵⁰` and `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so
 /// the squares neither overflow nor underflow.
 ///
@@ -470,13 +474,35 @@ fn rebased_roots<const D: usize>(
     e: f64,
 ) -> (f64, f64) {
     let mut b = Dd::new(0.0);
-    let mut c = Dd::new(0.0);
+    // c_e = |q + eω|² − r² cancels to about h·L against r² for an end near
+    // the boundary (L its distance to the root, h the half chord), which a
+    // double-double sum would resolve only to 2⁻¹⁰⁶r²: form it exactly as a
+    // sum of error-free products (q_j = hi + lo and e·ω_j = p + p' exactly,
+    // so (q + eω)_j² is 10 products of doubles), summed in four-fold
+    // precision (`sum_accurate`). The root offset then has relative error of
+    // a few ulp plus 2⁻¹⁰⁶·r/h from b_e.
+    let mut t = [0.0f64; 62];
+    let mut n = 0;
     for j in 0..D {
         let qe = q[j].add(Dd::prod(e, w[j]));
         b = b.add(qe.mul(Dd::new(w[j])));
-        c = c.add(qe.mul(qe));
+        let (ph, pl) = two_prod(e, w[j]);
+        let parts = [q[j].hi, q[j].lo, ph, pl];
+        for i in 0..4 {
+            for k in i..4 {
+                let (x, y) = two_prod(parts[i], parts[k]);
+                let f = if i == k { 1.0 } else { 2.0 };
+                t[n] = f * x;
+                t[n + 1] = f * y;
+                n += 2;
+            }
+        }
     }
-    let (b, c) = (b.to_f64(), c.sub(r2).to_f64());
+    t[n] = -r2.hi;
+    t[n + 1] = -r2.lo;
+    n += 2;
+    let c = sum_accurate(&mut t[..n]);
+    let (b, c) = (b.to_f64(), c.to_f64());
     if b >= 0.0 {
         let k = -(b + sd);
         (k / af, c / k)
@@ -513,9 +539,9 @@ impl<const D: usize> Integrand<D> for Ball<D> {
 
     /// The chord `max(0, min(t1, t+) − max(t0, t−))`, in double-double: relative
     /// error of a few ulp for an unclipped chord (including tangent and grazing
-    /// lines), and relative error `≤ 8u + 2⁻¹⁰⁰·(r²/(L·h) + r²/h²)` (`L` the
-    /// clipped length, `h` the half chord) when the ends clip it, i.e. a few ulp
-    /// for short segments at the boundary too. See [`Ball`] (numerics).
+    /// lines), and relative error `≤ 8u + 2⁻¹⁰⁰·(r/h + r²/h²)` (`h` the half
+    /// chord) when the ends clip it, whatever the clipped length, i.e. a few
+    /// ulp for short segments at the boundary too. See [`Ball`] (numerics).
     ///
     /// Bad input (no panic): `t0 > t1` gives 0; a NaN or infinite `p`, or a
     /// line so far away that the squares overflow, gives 0; a NaN end is

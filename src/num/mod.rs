@@ -19,6 +19,6 @@ pub mod phase;
 pub mod torus;
 
 pub use complex::Complex;
-pub use dd::{two_prod, two_sum, Dd};
+pub use dd::{sum_accurate, two_prod, two_sum, Dd};
 pub use phase::{cis_turns, cos_sin_turns, dot_turns, frac_centered, sinc, sinc_dd};
 pub use torus::{frac, to_unit_f32, torus_delta, torus_dist};
