@@ -222,7 +222,9 @@ proptest! {
         // Interleave so that the cancelling pairs are far apart.
         let n = t.len();
         let mut u: Vec<f64> = (0..n).map(|i| t[(i * 7) % n]).collect();
-        if n % 7 == 0 { u = t.clone(); }
+        if n.is_multiple_of(7) {
+            u = t.clone();
+        }
         let exact = u.iter().fold(Exact::of(0.0), |acc, &x| acc.add(&Exact::of(x)));
         let got = sum_accurate(&mut u.clone());
         let err = Exact::of_dd(got).sub(&exact);
