@@ -144,3 +144,24 @@ fn ball_seen_from_far_along_the_line_keeps_its_chord() {
         "chord {got:e} vs {want:e}"
     );
 }
+
+/// Found by the `integrand_ball` fuzz target right after the repeated
+/// re-basing: a whole line through `(−7.3e211, −7.3e211)`, far outside the
+/// old domain `|p − c| ≲ 10¹⁵⁰`; eight passes left the point 10⁸⁴ from the
+/// foot and the chord came out as 1.9e50. Every finite point now converges.
+#[test]
+fn ball_chord_from_any_finite_point_is_at_most_the_diameter() {
+    let c = [5.207212544768901e-5, 1.5743374606408346e-307];
+    let r = 0.13088992205539754;
+    let b = Ball::<2>::new(c, r).unwrap();
+    let d = Direction::new([1.0, 1.0]).unwrap();
+    for v in [-7.343562278240081e211, 1e300, -1e307] {
+        let got = b.segment_free(&[v, v], &d, f64::NEG_INFINITY, f64::INFINITY);
+        let dist = (c[0] - c[1]) / 2f64.sqrt();
+        let want = 2.0 * ((r - dist) * (r + dist)).sqrt();
+        assert!(
+            ((got - want) / want).abs() < 1e-14,
+            "through ({v:e}, {v:e}): chord {got:e} vs {want:e}"
+        );
+    }
+}
