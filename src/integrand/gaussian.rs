@@ -89,7 +89,7 @@ impl<const D: usize> Gaussian<D> {
     pub const SIGMA_SWITCH: f64 = 0.3;
 
     /// The normalised Gaussian of standard deviation `sigma` centred at
-    /// `centre` (any finite point; stored modulo 1 with `geom::frac`, which is
+    /// `centre` (any finite point; stored modulo 1 with `num::frac`, which is
     /// exact for non-negative coordinates and rounds `1 − |x|`-type results for
     /// negative ones by at most `2⁻⁵⁴`).
     ///
