@@ -20,8 +20,9 @@ use common::{check, fin, Probe, Ray32};
 /// `P·(1e−6 + 1e−6·E + 2e−7·κ·(1 + √(2E)))` with the line's peak
 /// `P = (2πσ²)^{−D/2} e^{−E} σ√(2π)/|d|`, `E = ρ²/2σ²`,
 /// `κ = |d|(|q| + |t0| + |t1|)/σ` (finite ends), `q = o − c`; plus the `f32`
-/// underflow (values below `≈ 1e−38·P`, and below the smallest normal `f32`,
-/// flush to 0).
+/// underflow: the `f32` exponential flushes to 0 below `e^{−87}`, an absolute
+/// error of up to `1.7e−38·P·e^{E}` (the prefactor without the exponential),
+/// and values below the smallest normal `f32` flush to 0.
 fn f32_ref<const D: usize>(g: &Gaussian<D>, r: &Ray32<D>) -> Option<(f64, f64)> {
     let (o, dir, t0, t1, nd) = r.to_f64()?;
     let want = g.segment_free(&o, &dir, t0, t1) / nd;
@@ -37,7 +38,7 @@ fn f32_ref<const D: usize>(g: &Gaussian<D>, r: &Ray32<D>) -> Option<(f64, f64)> 
     let p = peak * (-e).exp() * s * (2.0 * core::f64::consts::PI).sqrt() / nd;
     let kappa = nd * (qq.sqrt() + fin(r.t0) + fin(r.t1)) / s;
     let bound = p * (1e-6 + 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt()))
-        + 1e-38 * p
+        + 1.7e-38 * peak * s * (2.0 * core::f64::consts::PI).sqrt() / nd
         + 4.0 * f64::from(f32::MIN_POSITIVE);
     Some((want, bound))
 }
