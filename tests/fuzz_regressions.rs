@@ -165,3 +165,27 @@ fn ball_chord_from_any_finite_point_is_at_most_the_diameter() {
         );
     }
 }
+
+/// Found by the `integrand_ball` fuzz target in a CI run: a line along `x`
+/// that passes `10⁻⁴²` inside the tangent of a ball of radius `4.8e-4`. The
+/// double-double discriminant (precision `2⁻¹⁰⁶r²`) cannot see `r² − d²`
+/// there; it gave a half chord of `3e-127` for `3.2e-23`, and the clipped
+/// segment `[5e-304, 1.5e63]` came out as 1.5e63. Near tangency Δ is now
+/// recomputed from the exact constant term. Exact: `h = √(r² − d²)`,
+/// `d = r − 1.131e-42` (the `y` offset is negligible), so the clipped
+/// length is `h − t0 ≈ h`.
+#[test]
+fn ball_near_tangent_clipped_chord_is_exact() {
+    let r = 0.0004767922794117647;
+    let b = Ball::<3>::new([2.817009055118447e209, 2.4107286212654317e64, r], r).unwrap();
+    let d = Direction::new([1.0, 8.635991429482489e-78, -1.0510137569386553e-123]).unwrap();
+    let p = [-0.0, 4.857875058472934e-33, 1.1310621769458476e-42];
+    let got = b.segment_free(&p, &d, 5.2796563068250144e-304, 1.50515899895279e63);
+    // r² − d² = (r − d)(r + d) with r − d = 1.1310621769458476e-42 (the
+    // centre's z is exactly r, so d = r − p_z up to the negligible y term).
+    let h = (1.1310621769458476e-42 * (2.0 * r - 1.1310621769458476e-42)).sqrt();
+    assert!(
+        ((got - h) / h).abs() < 1e-13,
+        "clipped chord {got:e} vs {h:e}"
+    );
+}

@@ -14,6 +14,10 @@ use wide::f32x8;
 /// Unit roundoff `u = 2⁻⁵³`.
 const EPS: f64 = f64::EPSILON / 2.0;
 
+/// `2⁻⁴⁰`: below `2⁻⁴⁰·a·r²` the double-double discriminant is recomputed
+/// from the exact constant term (see `chord`).
+const TWO_M40: f64 = 9.094947017729282e-13;
+
 /// `2⁻⁹⁶` (the conditioning margin of the clipped chord, see `chord`).
 const TWO_M96: f64 = f64::from_bits((1023 - 96) << 52);
 
@@ -400,7 +404,16 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         b = b.add(qp[j].mul(Dd::new(w[j])));
         qq = qq.add(qp[j].mul(qp[j]));
     }
-    let delta = b.mul(b).sub(a.mul(qq.sub(r2)));
+    let mut delta = b.mul(b).sub(a.mul(qq.sub(r2)));
+    if !(delta.hi > TWO_M40 * a.hi * r2.hi) {
+        // Near tangency (or a miss) the double-double Δ has lost ≥ 40 of its
+        // bits to |q'|² − r²: recompute it from the exact constant term at the
+        // base point τ (Δ = b_e² − a·c_e does not depend on the base point;
+        // fuzz finding: a line 1e-42 inside the tangent of r = 4.8e-4 got
+        // h = 3e-127 for 3.2e-23 and then a chord of 1.5e63).
+        let (be, ce) = rebased_bc(q, w, r2, tau);
+        delta = be.mul(be).sub(a.mul(ce));
+    }
     if !(delta.hi > 0.0) {
         return 0.0;
     }
@@ -476,14 +489,28 @@ fn rebased_roots<const D: usize>(
     sd: f64,
     e: f64,
 ) -> (f64, f64) {
+    let (b, c) = rebased_bc(q, w, r2, e);
+    let (b, c) = (b.to_f64(), c.to_f64());
+    if b >= 0.0 {
+        let k = -(b + sd);
+        (k / af, c / k)
+    } else {
+        let k = sd - b;
+        (c / k, k / af)
+    }
+}
+
+/// `b_e = q_e·ω` (double-double) and `c_e = |q_e|² − r²` for `q_e = q + eω`.
+///
+/// `c_e` cancels to about `h·L` against `r²` for an end near the boundary (`L`
+/// its distance to the root, `h` the half chord), and to `r² − d²` at the foot
+/// of a near-tangent line, which a double-double sum would resolve only to
+/// `2⁻¹⁰⁶r²`: it is formed exactly as a sum of error-free products (`q_j = hi +
+/// lo` and `e·ω_j = p + p'` exactly, so `(q + eω)_j²` is 10 products of
+/// doubles) summed in four-fold precision ([`sum_accurate`]).
+#[inline]
+fn rebased_bc<const D: usize>(q: &[Dd; D], w: &[f64; D], r2: Dd, e: f64) -> (Dd, Dd) {
     let mut b = Dd::new(0.0);
-    // c_e = |q + eω|² − r² cancels to about h·L against r² for an end near
-    // the boundary (L its distance to the root, h the half chord), which a
-    // double-double sum would resolve only to 2⁻¹⁰⁶r²: form it exactly as a
-    // sum of error-free products (q_j = hi + lo and e·ω_j = p + p' exactly,
-    // so (q + eω)_j² is 10 products of doubles), summed in four-fold
-    // precision (`sum_accurate`). The root offset then has relative error of
-    // a few ulp plus 2⁻¹⁰⁶·r/h from b_e.
     let mut t = [0.0f64; 62];
     let mut n = 0;
     for j in 0..D {
@@ -504,15 +531,7 @@ fn rebased_roots<const D: usize>(
     t[n] = -r2.hi;
     t[n + 1] = -r2.lo;
     n += 2;
-    let c = sum_accurate(&mut t[..n]);
-    let (b, c) = (b.to_f64(), c.to_f64());
-    if b >= 0.0 {
-        let k = -(b + sd);
-        (k / af, c / k)
-    } else {
-        let k = sd - b;
-        (c / k, k / af)
-    }
+    (b, sum_accurate(&mut t[..n]))
 }
 
 /// `|ω|²` in double-double.
