@@ -362,8 +362,9 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
     // it to about u times itself. They are needed only when the offset e is so
     // large that Δ's double-double error 2⁻¹⁰⁶e² is no longer far below r²
     // (a ball seen from ≳ 2⁷⁹r along the line, found by fuzzing: a whole line
-    // through (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13); the test
-    // `e > 2²⁶r` keeps ordinary rays to one pass (bit-identical).
+    // through (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13). Passes
+    // continue while the offset exceeds r, so |q'| ≲ dist + r afterwards; an
+    // ordinary ray (offset ≈ u|q| ≪ r) takes one pass (bit-identical).
     let mut tau = Dd::new(tau1);
     let rf = libm::sqrt(r2.hi);
     // Each pass shrinks the offset by about 2⁻⁵⁰: 24 passes reach 2²⁶r from
@@ -376,7 +377,7 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
             qpn += qp[j].hi.abs();
         }
         let t = -bp / a.hi;
-        if !(t.abs() * libm::sqrt(a.hi) > 67_108_864.0 * rf) {
+        if !(t.abs() * libm::sqrt(a.hi) > rf) {
             break;
         }
         for j in 0..D {
@@ -411,8 +412,23 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         // base point τ (Δ = b_e² − a·c_e does not depend on the base point;
         // fuzz finding: a line 1e-42 inside the tangent of r = 4.8e-4 got
         // h = 3e-127 for 3.2e-23 and then a chord of 1.5e63).
-        let (be, ce) = rebased_bc(q, w, r2, tau);
-        delta = be.mul(be).sub(a.mul(ce));
+        // The exact sum is only as good as its condition number: use it when
+        // q itself is near the foot (|q| ≲ 4(|q'| + r)); from a far point the
+        // expansion of |q + τω|² cancels by |q|²/r² and the double-double Δ
+        // of the re-based q' is the better one (fuzz finding: a line through
+        // (2.4e35, 2.4e35, 2.4e35) got Δ = 2²³ from the expansion).
+        let mut qpn = 0.0;
+        for j in 0..D {
+            qpn += qp[j].hi.abs();
+        }
+        let mut q0n = 0.0;
+        for j in 0..D {
+            q0n += q[j].hi.abs();
+        }
+        if q0n <= 4.0 * (qpn + rf) {
+            let (be, ce) = rebased_bc(q, w, r2, tau);
+            delta = be.mul(be).sub(a.mul(ce));
+        }
     }
     if !(delta.hi > 0.0) {
         return 0.0;
