@@ -1,7 +1,8 @@
 //! The numeric core: the few primitives every closed form, pattern and
 //! spectrum in the crate is built from, each written once with one contract.
 //!
-//! * [`dd`]: double-double arithmetic (error-free transformations, [`Dd`]).
+//! * [`dd`]: double-double arithmetic (error-free transformations, [`Dd`],
+//!   and [`sum_accurate`] for sums that cancel).
 //! * [`complex`]: [`Complex`] numbers for Fourier coefficients and amplitudes.
 //! * [`phase`]: exact phase reduction and `e^{−2πiθ}`, [`sinc`].
 //! * [`torus`]: wrapping onto the unit torus `[0, 1)` and toroidal differences.
