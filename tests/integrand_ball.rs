@@ -1409,24 +1409,12 @@ fn exact_torus<const D: usize>(ball: &Ball<D>, s: &[f64; D], w: &[f64; D], len: 
         hi[j] = (b - c[j] + r).ceil() as i64 + 1;
     }
     let mut sum = Dy::zero();
-    let mut n = lo;
-    loop {
+    exact::for_each_cell(lo, hi, |n| {
         let q: [Dy; D] =
             core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(c[j])).sub(&Dy::f(n[j] as f64)));
         sum = sum.add(&exact_chord(&q, w, r, -half, half).0);
-        let mut j = 0;
-        loop {
-            if j == D {
-                return sum;
-            }
-            n[j] += 1;
-            if n[j] <= hi[j] {
-                break;
-            }
-            n[j] = lo[j];
-            j += 1;
-        }
-    }
+    });
+    sum
 }
 
 /// Short wrapped segments (`λ = 2r·10^{−U(0,13)}`) that cross a cell face

@@ -1551,23 +1551,11 @@ fn exact_torus_hs<const D: usize>(
         hi[j] = a.max(b).floor() as i64 + 1;
     }
     let mut sum = Dy::zero();
-    let mut m = lo;
-    loop {
+    exact::for_each_cell(lo, hi, |m| {
         let p: [Dy; D] = core::array::from_fn(|j| Dy::f(s[j]).sub(&Dy::f(m[j] as f64)));
         sum = sum.add(&exact_len(&n, h, &p, w, &t0, &t1));
-        let mut j = 0;
-        loop {
-            if j == D {
-                return sum;
-            }
-            m[j] += 1;
-            if m[j] <= hi[j] {
-                break;
-            }
-            m[j] = lo[j];
-            j += 1;
-        }
-    }
+    });
+    sum
 }
 
 /// Short wrapped segments centred where the edge meets the cell face

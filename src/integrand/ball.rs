@@ -345,31 +345,25 @@ impl<const D: usize> Ball<D> {
 /// module docs for the algorithm and its error.
 #[inline]
 fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: f64) -> f64 {
-    let mut bh = 0.0;
-    let mut qn = 0.0;
-    for j in 0..D {
-        bh += q[j].hi * w[j];
-        qn += q[j].hi.abs();
-    }
-    // Re-base at (nearly) the foot of the perpendicular: exact shift by τ.
-    let tau1 = -bh / a.hi;
-    let mut qp = [Dd::new(0.0); D];
-    for j in 0..D {
-        qp[j] = q[j].add(Dd::prod(tau1, w[j]));
-    }
-    // The rounding of τ leaves q' about (D + 2)u|q| from the foot along ω; the
-    // double-double q' holds that offset accurately, so further passes shrink
-    // it to about u times itself. They are needed only when the offset e is so
-    // large that Δ's double-double error 2⁻¹⁰⁶e² is no longer far below r²
-    // (a ball seen from ≳ 2⁷⁹r along the line, found by fuzzing: a whole line
-    // through (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13). Passes
-    // continue while the offset exceeds r, so |q'| ≲ dist + r afterwards; an
-    // ordinary ray (offset ≈ u|q| ≪ r) takes one pass (bit-identical).
-    let mut tau = Dd::new(tau1);
+    // Re-base at (nearly) the foot of the perpendicular: q' = q + τω, each
+    // shift τ a double and exact as a product (Dd::prod). The rounding of τ
+    // leaves q' about (D + 2)u|q| from the foot along ω; the double-double q'
+    // holds that offset accurately, so a further pass shrinks it to about u
+    // times itself. Passes continue while the offset exceeds r, so
+    // |q'| ≲ dist + r afterwards (found by fuzzing: a whole line through
+    // (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13, one through
+    // (−7.3e211, …) 1.9e50); an ordinary ray (offset ≈ u|q| ≪ r) takes one
+    // pass. Each pass shrinks the offset by about 2⁻⁵⁰, so 25 reach r from any
+    // finite point (|p − c| ≤ 10³⁰⁸, r ≥ 10⁻¹⁰⁰).
     let rf = libm::sqrt(r2.hi);
-    // Each pass shrinks the offset by about 2⁻⁵⁰: 24 passes reach 2²⁶r from
-    // any finite point (|p − c| ≤ 10³⁰⁸, r ≥ 10⁻¹⁰⁰).
-    for _ in 0..24 {
+    let sa = libm::sqrt(a.hi);
+    let mut qp = *q;
+    let mut tau = Dd::ZERO;
+    // Σ|q_j| of the point the last shift was computed from (its rounding
+    // sets the rejection slack below), and of the given point.
+    let mut qn = 0.0;
+    let mut q0n = 0.0;
+    for pass in 0..25 {
         let mut bp = 0.0;
         let mut qpn = 0.0;
         for j in 0..D {
@@ -377,7 +371,9 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
             qpn += qp[j].hi.abs();
         }
         let t = -bp / a.hi;
-        if !(t.abs() * libm::sqrt(a.hi) > rf) {
+        if pass == 0 {
+            q0n = qpn;
+        } else if !(t.abs() * sa > rf) {
             break;
         }
         for j in 0..D {
@@ -388,8 +384,10 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
     }
     let tau = tau.to_f64();
     let mut d2 = 0.0;
+    let mut qpn = 0.0;
     for j in 0..D {
         d2 += qp[j].hi * qp[j].hi;
+        qpn += qp[j].hi.abs();
     }
     // Quick, safe rejection: d2 is within a few ulp of the exact |q'|², and
     // |q'|² = dist² + a(τ − τ*)² with |τ − τ*| ≤ (D + 2)u|q| (τ* the exact
@@ -417,14 +415,6 @@ fn chord<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd, t0: f64, t1: 
         // expansion of |q + τω|² cancels by |q|²/r² and the double-double Δ
         // of the re-based q' is the better one (fuzz finding: a line through
         // (2.4e35, 2.4e35, 2.4e35) got Δ = 2²³ from the expansion).
-        let mut qpn = 0.0;
-        for j in 0..D {
-            qpn += qp[j].hi.abs();
-        }
-        let mut q0n = 0.0;
-        for j in 0..D {
-            q0n += q[j].hi.abs();
-        }
         if q0n <= 4.0 * (qpn + rf) {
             let (be, ce) = rebased_bc(q, w, r2, tau);
             delta = be.mul(be).sub(a.mul(ce));

@@ -196,16 +196,17 @@ impl<const D: usize> HalfSpace<D> {
                 let wj = Dd::new(w[j]);
                 let a = Dd::div(Dd::new(-p[j]), wj);
                 let b = Dd::div(Dd::diff(1.0, p[j]), wj);
-                let (a, b) = if w[j] > 0.0 { (a, b) } else { (b, a) };
-                if Dd::lt(lo, a) {
-                    lo = a;
-                }
-                if Dd::lt(b, hi) {
-                    hi = b;
-                }
+                narrow(&mut lo, &mut hi, a, b, w[j] > 0.0);
             }
         }
-        let g = self.excess(&q);
+        self.edge_clip(self.excess(&q), &w, lo, hi)
+    }
+
+    /// The length of `[lo, hi]` on the kept side `g + t·(n·ω) ≥ 0` of the edge
+    /// (`g` the excess at `t = 0`): the crossing `−g/(n·ω)` as a
+    /// double-double quotient, the length one rounding of `hi − lo` (the
+    /// leading parts where an end is infinite); 0 if empty.
+    fn edge_clip(&self, g: Dd, w: &[f64; D], mut lo: Dd, mut hi: Dd) -> f64 {
         let mut c = Dd::new(0.0);
         for j in 0..D {
             c = c.add(Dd::prod(self.n[j], w[j]));
@@ -249,36 +250,14 @@ impl<const D: usize> HalfSpace<D> {
                 let wj = Dd::new(w[j]);
                 let a = Dd::div(p[j].neg(), wj);
                 let b = Dd::div(Dd::new(1.0).sub(p[j]), wj);
-                let (a, b) = if w[j] > 0.0 { (a, b) } else { (b, a) };
-                if Dd::lt(lo, a) {
-                    lo = a;
-                }
-                if Dd::lt(b, hi) {
-                    hi = b;
-                }
+                narrow(&mut lo, &mut hi, a, b, w[j] > 0.0);
             }
         }
         let mut g = Dd::new(-self.offset);
-        let mut c = Dd::new(0.0);
         for j in 0..D {
             g = g.add(p[j].mul(Dd::new(self.n[j])));
-            c = c.add(Dd::prod(self.n[j], w[j]));
         }
-        if c.hi == 0.0 {
-            if g.hi < 0.0 {
-                return 0.0;
-            }
-        } else {
-            let ts = Dd::div(g.neg(), c);
-            if c.hi > 0.0 {
-                if Dd::lt(lo, ts) {
-                    lo = ts;
-                }
-            } else if Dd::lt(ts, hi) {
-                hi = ts;
-            }
-        }
-        hi.sub(lo).hi.max(0.0)
+        self.edge_clip(g, w, lo, hi)
     }
 
     /// The Fourier coefficient of the standard-form region at `k'` (`k' ≠ 0`).
@@ -631,6 +610,19 @@ fn kernel<L: F32Lane, const D: usize>(
     lo = L::select(cpos, lo.max(ts), L::select(cneg, lo, par));
     hi = L::select(cneg, hi.min(ts), hi);
     (hi - lo).max(zero)
+}
+
+/// Narrows `[lo, hi]` to a slab `[a, b]` given in the order of the axis
+/// (`a` at the face `0`, `b` at the face `1`; swapped when `ω_j < 0`).
+#[inline]
+fn narrow(lo: &mut Dd, hi: &mut Dd, a: Dd, b: Dd, positive: bool) {
+    let (a, b) = if positive { (a, b) } else { (b, a) };
+    if Dd::lt(*lo, a) {
+        *lo = a;
+    }
+    if Dd::lt(b, *hi) {
+        *hi = b;
+    }
 }
 
 // ---------------------------------------------------------------------------

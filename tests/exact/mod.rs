@@ -248,3 +248,24 @@ fn dyadic_arithmetic_is_exact() {
     assert_eq!(Dy::f(5e-324).to_f64(), 5e-324);
     assert_eq!(Dy::f(-f64::MAX).to_f64(), -f64::MAX);
 }
+
+/// Every integer cell `m` with `lo ≤ m ≤ hi` componentwise (an odometer,
+/// axis 0 fastest), for sums over the images a wrapped segment can reach.
+pub fn for_each_cell<const D: usize>(lo: [i64; D], hi: [i64; D], mut f: impl FnMut(&[i64; D])) {
+    let mut m = lo;
+    loop {
+        f(&m);
+        let mut j = 0;
+        loop {
+            if j == D {
+                return;
+            }
+            m[j] += 1;
+            if m[j] <= hi[j] {
+                break;
+            }
+            m[j] = lo[j];
+            j += 1;
+        }
+    }
+}
