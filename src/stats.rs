@@ -8,6 +8,8 @@
 //! independent of thread count, merge per-chunk statistics in chunk order (the
 //! lab does).
 
+use crate::error::ParamError;
+
 /// Count, mean and central moment sums `M_p = Σ (x_i − x̄)^p`, `p = 2, 3, 4`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RunningStats {
@@ -123,6 +125,57 @@ impl RunningStats {
         let s2 = self.m2 / n;
         let mu4 = self.m4 / n;
         libm::sqrt(((mu4 - s2 * s2 * (n - 3.0) / (n - 1.0)) / n).max(0.0))
+    }
+
+    /// The state, to persist it (resume a run, merge shards computed
+    /// elsewhere): `(n, [x̄, M2, M3, M4])`. [`RunningStats::from_parts`]
+    /// rebuilds the same statistics, bit for bit.
+    #[must_use]
+    pub fn parts(&self) -> (u64, [f64; 4]) {
+        (self.n, [self.mean, self.m2, self.m3, self.m4])
+    }
+
+    /// Statistics from exported state ([`RunningStats::parts`]): `n` samples
+    /// with mean `x̄` and central moment sums `M2, M3, M4`, kept as they are.
+    ///
+    /// # Errors
+    /// [`ParamError::NonFinite`] naming `mean`, `m2`, `m3` or `m4` if it is NaN
+    /// or ±∞; [`ParamError::OutOfRange`] naming `m2` or `m4` if it is negative
+    /// (sums of even powers), or naming the first non-zero value if `n = 0`
+    /// (no samples: every value must be 0).
+    pub fn from_parts(n: u64, moments: [f64; 4]) -> Result<Self, ParamError> {
+        const NAMES: [&str; 4] = ["mean", "m2", "m3", "m4"];
+        if let Some(i) = moments.iter().position(|v| !v.is_finite()) {
+            return Err(ParamError::NonFinite { name: NAMES[i] });
+        }
+        for i in [1, 3] {
+            if moments[i] < 0.0 {
+                return Err(ParamError::OutOfRange {
+                    name: NAMES[i],
+                    value: moments[i],
+                    min: 0.0,
+                    max: f64::MAX,
+                });
+            }
+        }
+        if n == 0 {
+            if let Some(i) = moments.iter().position(|&v| v != 0.0) {
+                return Err(ParamError::OutOfRange {
+                    name: NAMES[i],
+                    value: moments[i],
+                    min: 0.0,
+                    max: 0.0,
+                });
+            }
+        }
+        let [mean, m2, m3, m4] = moments;
+        Ok(Self {
+            n,
+            mean,
+            m2,
+            m3,
+            m4,
+        })
     }
 
     /// Sample skewness-free fourth central moment `M4/n` (for diagnostics).

@@ -3,7 +3,8 @@
 //! input.
 
 use linesample::pattern::{
-    poisson_max_radius, PoissonDisk, PoissonMethod, POISSON_MAX_CELLS, POISSON_MAX_CELLS_1D,
+    poisson_max_radius, Pattern, PoissonDisk, PoissonDiskN, PoissonMethod, POISSON_MAX_CELLS,
+    POISSON_MAX_CELLS_1D,
 };
 use linesample::{PatternError, Seed};
 use proptest::prelude::*;
@@ -548,4 +549,148 @@ fn bad_input() {
         .generate_vec(Seed::new(2))
         .unwrap();
     assert!(min_pair_distance(&v) >= 0.1);
+}
+
+/// `PoissonDiskN` is `generate_n_vec` as a `Pattern`: every fill path gives the
+/// same bits for every seed, and a shortfall is the same error.
+#[test]
+fn n_point_pattern_is_generate_n_vec() {
+    fn check<const D: usize>(n: usize, rel: f64) {
+        for m in METHODS {
+            // Bridson fills less densely than maximal dart throwing: at a
+            // smaller radius most runs have n points (the rest are shortfalls).
+            let rel = match m {
+                PoissonMethod::Bridson => 0.8 * rel,
+                _ => rel,
+            };
+            let disk = PoissonDisk::<D>::for_n(n, rel).unwrap().with_method(m);
+            let pat = PoissonDiskN::new(disk, n).unwrap();
+            assert_eq!((pat.len(), pat.n(), *pat.disk()), (n, n, disk));
+            let (mut ok, mut short) = (0, 0);
+            for s in 0..8u64 {
+                let seed = Seed::new(40 + s).realization(s);
+                let want = disk.generate_n_vec(n, seed);
+                let mut out = vec![[0.0f32; D]; n];
+                let got = pat.fill(seed, &mut out);
+                let want = match want {
+                    Ok(v) => v,
+                    Err(e) => {
+                        short += 1;
+                        assert_eq!(got, Err(e), "{D}D {m:?} seed {s}");
+                        assert_eq!(pat.to_vec(seed), Err(e));
+                        continue;
+                    }
+                };
+                ok += 1;
+                got.unwrap();
+                let as_bits = |v: &[[f32; D]]| {
+                    v.iter()
+                        .map(|p| p.map(f32::to_bits))
+                        .collect::<Vec<[u32; D]>>()
+                };
+                assert_eq!(as_bits(&out), as_bits(&want), "{D}D {m:?} seed {s}");
+                assert_eq!(as_bits(&pat.to_vec(seed).unwrap()), as_bits(&want));
+                // Any range, on every path.
+                for (first, len) in [(0, n), (0, 1), (n / 3, n / 2), (n - 1, 1), (n, 0)] {
+                    let want = &want[first..first + len];
+                    let mut a = vec![[0.0f32; D]; len];
+                    pat.fill_range(seed, first, &mut a).unwrap();
+                    assert_eq!(as_bits(&a), as_bits(want));
+                    let mut b = vec![[0.0f32; D]; len];
+                    pat.fill_range_scalar(seed, first, &mut b).unwrap();
+                    assert_eq!(as_bits(&b), as_bits(want));
+                    let mut cols = vec![vec![0.0f32; len]; D];
+                    {
+                        let mut it = cols.iter_mut();
+                        let soa: [&mut [f32]; D] =
+                            core::array::from_fn(|_| it.next().unwrap().as_mut_slice());
+                        pat.fill_range_soa(seed, first, soa).unwrap();
+                    }
+                    for (i, p) in want.iter().enumerate() {
+                        for j in 0..D {
+                            assert_eq!(cols[j][i].to_bits(), p[j].to_bits());
+                        }
+                    }
+                }
+                // Shifted, as the lab builds it: the shift of the same points.
+                let shifted = pat.shifted().to_vec(seed).unwrap();
+                assert_eq!(shifted.len(), n);
+            }
+            eprintln!("PoissonDiskN {D}D n = {n} {m:?}: {ok} exact, {short} shortfalls");
+            assert!(ok > 0, "{D}D {m:?}: no seed gave {n} points");
+        }
+    }
+    check::<1>(50, 0.7);
+    check::<2>(200, 0.75);
+    check::<3>(100, 0.7);
+    // Bridson at the edge of what fits: shortfalls happen and are reported.
+    let tight = PoissonDisk::<2>::for_n(256, 1.0).unwrap();
+    let pat = PoissonDiskN::new(tight, 256).unwrap();
+    for s in 0..4 {
+        let seed = Seed::new(s);
+        let want = tight.generate_n_vec(256, seed).unwrap_err();
+        assert!(matches!(want, PatternError::Shortfall { wanted: 256, .. }));
+        assert_eq!(pat.to_vec(seed), Err(want));
+        let mut out = vec![[0.0f32; 2]; 10];
+        assert_eq!(pat.fill_range(seed, 5, &mut out), Err(want));
+        let (mut xs, mut ys) = (vec![0.0f32; 3], vec![0.0f32; 3]);
+        assert_eq!(pat.fill_range_soa(seed, 0, [&mut xs, &mut ys]), Err(want));
+    }
+}
+
+#[test]
+fn n_point_pattern_rejects_bad_input() {
+    let disk = PoissonDisk::<2>::for_n(100, 0.75).unwrap();
+    assert_eq!(
+        PoissonDiskN::new(disk, 0).unwrap_err(),
+        PatternError::ZeroPoints
+    );
+    let max = disk.max_points();
+    assert!(PoissonDiskN::new(disk, max).is_ok());
+    let err = PoissonDiskN::new(disk, max + 1).unwrap_err();
+    assert_eq!(err, PatternError::TooManyPoints { max: max as u64 });
+    assert!(err.to_string().starts_with("n "), "{err}");
+    let pat = PoissonDiskN::new(disk, 100).unwrap();
+    let seed = Seed::new(2);
+    let mut out = vec![[0.0f32; 2]; 10];
+    assert_eq!(
+        pat.fill_range(seed, 95, &mut out),
+        Err(PatternError::Range {
+            first: 95,
+            len: 10,
+            n: 100
+        })
+    );
+    assert_eq!(
+        pat.fill_range_scalar(seed, usize::MAX, &mut out),
+        Err(PatternError::Range {
+            first: usize::MAX as u64,
+            len: 10,
+            n: 100
+        })
+    );
+    assert_eq!(
+        pat.fill(seed, &mut out),
+        Err(PatternError::OutputLength {
+            expected: 100,
+            got: 10
+        })
+    );
+    let (mut xs, mut ys) = (vec![0.0f32; 4], vec![0.0f32; 3]);
+    assert_eq!(
+        pat.fill_range_soa(seed, 0, [&mut xs, &mut ys]),
+        Err(PatternError::OutputLength {
+            expected: 4,
+            got: 3
+        })
+    );
+    let mut ys = vec![0.0f32; 4];
+    assert_eq!(
+        pat.fill_range_soa(seed, 98, [&mut xs, &mut ys]),
+        Err(PatternError::Range {
+            first: 98,
+            len: 4,
+            n: 100
+        })
+    );
 }

@@ -42,7 +42,7 @@ use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, Integrand};
 use linesample::pattern::{Ccvt, Jittered, Pattern, PoissonDisk, PoissonMethod, Random};
 use linesample::primitive::Segment;
-use linesample::spectrum::{Dft, Grid, Periodogram};
+use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
 use linesample::stats::RunningStats;
 use linesample::{PatternError, Pcg32, Seed};
 

@@ -8,7 +8,8 @@ use linesample::geom::Direction;
 use linesample::pattern::{Jittered, Pattern, Random};
 use linesample::primitive::Segment;
 use linesample::spectrum::{
-    jittered_expected, line_offsets, line_spectrum, Dft, Grid, Periodogram,
+    jittered_expected, line_offsets, line_spectrum, AmplitudeView, Amplitudes, Dft, Grid,
+    Periodogram,
 };
 use linesample::stats::RunningStats;
 use linesample::{Pcg32, Seed, SpectrumError};
@@ -689,12 +690,11 @@ fn bad_input_is_rejected_without_side_effects() {
     ));
     let empty = Dft::new_vec(Grid::<2>::new(5).unwrap());
     assert_eq!(p.add(&empty), Err(SpectrumError::Empty));
-    assert!(p.add_amplitudes(&[0.0; 3], &[0.0; 3], 1).is_err());
-    let n = p.grid().len();
-    let mut re = vec![0.0; n];
-    re[2] = f64::NAN;
+    let mut amps = Amplitudes::new_vec(p.grid());
+    amps.set_count(4);
+    amps.parts_mut().0[2] = f64::NAN;
     assert!(matches!(
-        p.add_amplitudes(&re, &vec![0.0; n], 4),
+        p.add(&amps),
         Err(SpectrumError::NonFinite {
             name: "amplitudes",
             index: 2
@@ -851,4 +851,173 @@ fn issue_case_n4096_on_the_639_grid_matches_the_exact_reference() {
         worst_p <= 2.0 * delta + delta * delta,
         "max |P − P_exact| = {worst_p:e}"
     );
+}
+
+/// Copies the amplitudes of `dft` into an [`Amplitudes`] (grid layout), as an
+/// external transform would write them.
+fn copy_amplitudes<const D: usize>(dft: &Dft<D, Vec<f64>>) -> Amplitudes<D, Vec<f64>> {
+    let g = dft.grid();
+    let mut a = Amplitudes::new_vec(g);
+    let (re, im) = a.parts_mut();
+    for i in 0..g.len() {
+        let c = dft.amplitude_at(i);
+        re[i] = c.re;
+        im[i] = c.im;
+    }
+    a.set_count(dft.count());
+    a
+}
+
+/// The two producers of the one view give the same bits: amplitudes copied out
+/// of a `Dft` into `Amplitudes` add to the same periodogram means, the same
+/// per-realisation power and ring means, and the same full-grid amplitudes as
+/// the `Dft` itself. The values are also checked against the formulas written
+/// out here: power `(re² + im²)·(1/N)`, ring sums of multiplicity × power in
+/// cell order divided by the ring count, and the order the lab's NUFFT path
+/// used, `(mult·(re² + im²))·(1/N)` (multiplicity 1 or 2: scaling by a power of
+/// two commutes with rounding, so both orders give the same bits for results
+/// in the normal range).
+#[test]
+fn amplitudes_view_matches_the_dft_bit_for_bit() {
+    fn check<const D: usize>(k: usize, n: usize, reals: u64) {
+        let g = Grid::<D>::new(k).unwrap();
+        let mut dft = Dft::new_vec(g);
+        let mut via_dft = Periodogram::new_vec(g);
+        let mut via_amps = Periodogram::new_vec(g);
+        let mut scratch = scratch_points(g, 32);
+        let (mut m1, mut m2) = (vec![0.0; k + 1], vec![0.0; k + 1]);
+        let (mut c1, mut c2) = (vec![0u64; k + 1], vec![0u64; k + 1]);
+        let (mut p1, mut p2) = (vec![0.0; g.len()], vec![0.0; g.len()]);
+        for r in 0..reals {
+            let pts: Vec<[f64; D]> = random_points(n + r as usize, 100 + r);
+            dft.clear();
+            dft.add_points(&pts, &mut scratch).unwrap();
+            let amps = copy_amplitudes(&dft);
+            assert_eq!(AmplitudeView::count(&amps), dft.count());
+            via_dft.add(&dft).unwrap();
+            // Through a trait object, too.
+            let view: &dyn AmplitudeView<D> = &amps;
+            via_amps.add(view).unwrap();
+            dft.radial_power(&mut m1, &mut c1).unwrap();
+            amps.radial_power(&mut m2, &mut c2).unwrap();
+            dft.power(&mut p1).unwrap();
+            amps.power(&mut p2).unwrap();
+            assert_eq!(c1, c2);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&m1), bits(&m2), "{D}D k = {k}: ring means");
+            assert_eq!(bits(&p1), bits(&p2), "{D}D k = {k}: power");
+            // The formulas, written out.
+            let (re, im) = amps.parts();
+            let inv = 1.0 / amps.count() as f64;
+            let mut rings = vec![0.0; k + 1];
+            let mut lab_rings = vec![0.0; k + 1];
+            for i in 0..g.len() {
+                let power = (re[i] * re[i] + im[i] * im[i]) * inv;
+                assert_eq!(p1[i].to_bits(), power.to_bits(), "cell {i}");
+                if let Some(ring) = g.ring(i) {
+                    let mult = f64::from(g.multiplicity(i));
+                    rings[ring] += mult * power;
+                    lab_rings[ring] += mult * (re[i] * re[i] + im[i] * im[i]) * inv;
+                }
+            }
+            for ring in 0..=k {
+                rings[ring] /= c1[ring] as f64;
+                lab_rings[ring] /= c1[ring] as f64;
+            }
+            assert_eq!(bits(&m1), bits(&rings), "{D}D k = {k}: ring formula");
+            assert_eq!(bits(&m1), bits(&lab_rings), "{D}D k = {k}: lab order");
+            for i in (0..g.len()).step_by(7) {
+                let j = g.freq(i);
+                let neg = j.map(|x| -x);
+                assert_eq!(dft.amplitude(j), amps.amplitude(j));
+                assert_eq!(dft.amplitude(neg), amps.amplitude(neg));
+            }
+        }
+        assert_eq!(via_dft.realisations(), reals);
+        for i in 0..g.len() {
+            assert_eq!(
+                via_dft.mean_at(i).to_bits(),
+                via_amps.mean_at(i).to_bits(),
+                "{D}D k = {k}, cell {i}"
+            );
+        }
+        let (mut a1, mut a2) = (vec![0.0; k + 1], vec![0.0; k + 1]);
+        via_dft.radial_average(&mut a1, &mut c1).unwrap();
+        via_amps.radial_average(&mut a2, &mut c2).unwrap();
+        assert_eq!(
+            a1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            a2.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+        );
+    }
+    // 1D both storage layouts (one padded row; rows of 64), 2D, 3D.
+    check::<1>(20, 30, 3);
+    check::<1>(150, 40, 3);
+    check::<2>(9, 50, 4);
+    check::<3>(4, 20, 3);
+}
+
+#[test]
+fn amplitudes_reject_bad_buffers_and_empty_realisations() {
+    let g = Grid::<2>::new(3).unwrap();
+    let need = Amplitudes::<2, Vec<f64>>::buffer_len(g);
+    assert_eq!(need, 2 * g.len());
+    let err = Amplitudes::new(g, vec![1.0; need - 1]).unwrap_err();
+    assert_eq!(
+        err,
+        SpectrumError::Length {
+            name: "buf",
+            expected: need,
+            got: need - 1
+        }
+    );
+    assert!(err.to_string().starts_with("buf: "), "{err}");
+    // A caller buffer is zeroed; a longer one is fine.
+    let mut buf = vec![1.0; need + 3];
+    let mut a = Amplitudes::new(g, &mut buf[..]).unwrap();
+    assert!(a.parts().0.iter().chain(a.parts().1).all(|&v| v == 0.0));
+    assert_eq!(a.count(), 0);
+    let mut p = Periodogram::new_vec(g);
+    // Count 0 is an empty realisation, for every consumer.
+    assert_eq!(p.add(&a), Err(SpectrumError::Empty));
+    let (mut mean, mut count) = (vec![0.0; 4], vec![0u64; 4]);
+    assert_eq!(
+        a.radial_power(&mut mean, &mut count),
+        Err(SpectrumError::Empty)
+    );
+    assert_eq!(a.power(&mut vec![0.0; g.len()]), Err(SpectrumError::Empty));
+    a.parts_mut().0[0] = 2.0;
+    a.set_count(2);
+    let err = a.radial_power(&mut [0.0; 3], &mut count).unwrap_err();
+    assert!(matches!(err, SpectrumError::Length { name: "mean", .. }));
+    let err = a.power(&mut [0.0; 2]).unwrap_err();
+    assert!(matches!(err, SpectrumError::Length { name: "out", .. }));
+    // Non-finite amplitudes name the first bad cell; nothing is added.
+    a.parts_mut().1[5] = f64::INFINITY;
+    a.parts_mut().0[7] = f64::NAN;
+    assert_eq!(
+        p.add(&a),
+        Err(SpectrumError::NonFinite {
+            name: "amplitudes",
+            index: 5
+        })
+    );
+    assert_eq!(p.realisations(), 0);
+    let mut means = vec![1.0; g.len()];
+    p.means(&mut means).unwrap();
+    assert!(means.iter().all(|&v| v == 0.0));
+    // Another grid is a mismatch; after clear() the view is empty again.
+    let other = Amplitudes::new_vec(Grid::<2>::new(4).unwrap());
+    assert!(matches!(
+        p.add(&other),
+        Err(SpectrumError::GridMismatch { left: 3, right: 4 })
+    ));
+    a.clear();
+    assert_eq!(a.count(), 0);
+    assert!(a.parts().0.iter().chain(a.parts().1).all(|&v| v == 0.0));
+    // DC amplitude N of N points: N·P(0) = N.
+    a.parts_mut().0[g.index([0, 0]).unwrap().0] = 3.0;
+    a.set_count(3);
+    p.add(&a).unwrap();
+    assert_eq!(p.mean([0, 0]), Some(3.0));
+    assert_eq!(p.realisations(), 1);
 }

@@ -243,7 +243,7 @@ fn pinned_poisson_disk_and_ccvt() {
 fn pinned_spectrum_amplitudes() {
     use linesample::geom::Direction;
     use linesample::primitive::Segment;
-    use linesample::spectrum::{Dft, Grid, Periodogram};
+    use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
     fn amplitudes<const D: usize>(dft: &Dft<D, Vec<f64>>) -> u64 {
         let g = dft.grid();
         Fnv::new()

@@ -1,4 +1,4 @@
-//! Fuzzes the lab's NUFFT plan (`linesample_lab::nufft::Plan`): construction with
+//! Fuzzes the NUFFT plan (`linesample_nufft::Plan`): construction with
 //! arbitrary half-widths, tolerances (any `f64`) and upsampling, and execution, on
 //! plans of tolerances `1e−1 … 1e−14` (cached per thread: building a plan is the
 //! slow part), with arbitrary points (any finite or non-finite `f64`) and real
@@ -8,11 +8,14 @@
 //! * bad input is an error, never a panic: `tol` NaN or `≤ 0`
 //!   (`NufftError::Tolerance`), a non-finite coordinate (`NonFinitePoint` naming the
 //!   first bad point and axis), a non-finite weight, buffers of the wrong length;
+//! * `transform_into` / `transform_weighted_into` (into the kernel's `Amplitudes`
+//!   view) give the bits of `transform` / `transform_weighted` and set the sample
+//!   count;
 //! * on small cases (weights `|c| ≤ 1e100`; larger finite weights overflow the
 //!   sums, giving ±∞/NaN) the result matches the direct, exact kernel
 //!   `linesample::spectrum::Dft` (one single-point transform per point, times its
 //!   weight, summed): `‖F − F_direct‖₂ ≤ 2ε·max(‖F_direct‖₂, ‖c‖₂·√L)` where `ε` is
-//!   the plan's (clamped) tolerance and `L` the half-grid length. The module
+//!   the plan's (clamped) tolerance and `L` the half-grid length. The crate
 //!   documents a relative l2 error `≤ ε` (measured `≤ 0.8ε`); the second scale is
 //!   the size of `F` for incoherent weights and keeps the check meaningful when
 //!   the weights cancel (`F_direct ≈ 0`). σ = 5/4 below `ε = 1e−9` is documented to
@@ -25,8 +28,8 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use linesample::spectrum::{Dft, Grid};
-use linesample_lab::nufft::{NufftError, Plan, Upsampling, MAX_TOL, MIN_TOL};
+use linesample::spectrum::{AmplitudeView, Amplitudes, Dft, Grid};
+use linesample_nufft::{NufftError, Plan, Upsampling, MAX_TOL, MIN_TOL};
 use std::any::Any;
 use std::cell::RefCell;
 use std::collections::HashMap;
@@ -145,13 +148,30 @@ fn execute<const D: usize>(plan: &mut Plan<D>, k: usize, inp: &Input) {
         return;
     }
     res.unwrap_or_else(|e| panic!("valid input rejected: {e}"));
+    // The kernel's amplitude view gets the same bits and the sample count.
+    let grid = Grid::<D>::new(k).unwrap();
+    let mut amps = Amplitudes::new_vec(grid);
+    if inp.weighted {
+        plan.transform_weighted_into(&pts, &weights, &mut amps)
+    } else {
+        plan.transform_into(&pts, &mut amps)
+    }
+    .unwrap_or_else(|e| panic!("valid input rejected by transform_into: {e}"));
+    assert_eq!(amps.count(), pts.len() as u64);
+    let (ar, ai) = amps.parts();
+    for i in 0..len {
+        assert_eq!(
+            (ar[i].to_bits(), ai[i].to_bits()),
+            (re[i].to_bits(), im[i].to_bits()),
+            "transform_into differs from transform at cell {i}"
+        );
+    }
     if weights.iter().any(|c| c.abs() > 1e100) {
         // Finite weights near f64::MAX overflow the fine grid and the FFT sums
         // (the result is then ±∞/NaN, not an error); only "no panic" is checked.
         return;
     }
     // Direct reference, weights applied per point in f64.
-    let grid = Grid::<D>::new(k).unwrap();
     assert_eq!(grid.len(), len);
     let mut fr = vec![0.0; len];
     let mut fi = vec![0.0; len];

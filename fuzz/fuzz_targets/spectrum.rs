@@ -19,7 +19,7 @@ use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
 use linesample::geom::Direction;
 use linesample::primitive::Segment;
-use linesample::spectrum::{Dft, Grid, Periodogram};
+use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
 
 #[derive(Arbitrary, Debug)]
 struct Input {

@@ -26,7 +26,9 @@ use libfuzzer_sys::fuzz_target;
 use linesample::geom::Direction;
 use linesample::num::sinc;
 use linesample::primitive::Segment;
-use linesample::spectrum::{line_offsets, line_spectrum, radial_variance, Dft, Grid, Periodogram};
+use linesample::spectrum::{
+    line_offsets, line_spectrum, radial_variance, AmplitudeView, Dft, Grid, Periodogram,
+};
 
 #[derive(Arbitrary, Debug)]
 struct Input {

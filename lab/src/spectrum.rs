@@ -18,14 +18,15 @@ use std::time::{Duration, Instant};
 use clap::{Args, ValueEnum};
 use linesample::geom::Direction;
 use linesample::primitive::Segment;
-use linesample::spectrum::{line_offsets, Dft, Grid, Periodogram};
+use linesample::spectrum::{self, line_offsets, AmplitudeView, Dft, Grid, Periodogram};
 use linesample::stats::RunningStats;
 use linesample::Seed;
 
 use crate::plot::xml_escape;
 use crate::sampler::{self, Sampler, Spec};
 use crate::{output, png};
-use linesample_lab::{nufft, pointfile};
+use linesample_lab::pointfile;
+use linesample_nufft as nufft;
 
 /// The CSV header.
 pub const CSV_HEADER: &str = "radius,mean_np,std_error,count";
@@ -135,7 +136,7 @@ pub enum Method {
     /// Exact direct sum over samples and frequencies (`linesample::spectrum::Dft`):
     /// about N*(cells of the half grid) complex multiply-adds per realisation.
     Direct,
-    /// Type-1 non-uniform FFT (`linesample_lab::nufft`: exponential-of-semicircle
+    /// Type-1 non-uniform FFT (`linesample_nufft`: exponential-of-semicircle
     /// spreading, FFT, deconvolution) with relative l2 error at most --tol on the
     /// amplitudes. Points and lines only (segment weights depend on the frequency).
     Nufft,
@@ -257,7 +258,7 @@ pub struct SpectrumArgs {
 
     /// NUFFT only: requested relative l2 accuracy of the amplitudes, in
     /// [1e-14, 1e-1] (the accuracy/time knob: see `cargo run --release -p
-    /// linesample-lab --example nufft_bench`) [default: 1e-9].
+    /// linesample-nufft --example nufft_bench`) [default: 1e-9].
     #[arg(long, value_name = "EPS")]
     tol: Option<f64>,
 
@@ -644,7 +645,7 @@ struct Merge<const E: usize> {
 /// NUFFT's half-grid arrays.
 enum Amplitudes<const E: usize> {
     Direct(Dft<E, Vec<f64>>),
-    Nufft { re: Vec<f64>, im: Vec<f64>, n: u64 },
+    Nufft(spectrum::Amplitudes<E, Vec<f64>>),
 }
 
 impl<const E: usize> Merge<E> {
@@ -652,7 +653,7 @@ impl<const E: usize> Merge<E> {
         while let Some((amps, ring)) = self.pending.remove(&self.next) {
             let added = match &amps {
                 Amplitudes::Direct(dft) => self.total.add(dft),
-                Amplitudes::Nufft { re, im, n } => self.total.add_amplitudes(re, im, *n),
+                Amplitudes::Nufft(amps) => self.total.add(amps),
             };
             added.map_err(|e| format!("realisation {}: {e}", self.next))?;
             for (s, &v) in self.rings.iter_mut().zip(&ring) {
@@ -664,29 +665,6 @@ impl<const E: usize> Merge<E> {
             }
         }
         Ok(())
-    }
-}
-
-/// Ring means of `|F|²/n` from half-grid amplitudes (as `Dft::radial_power`).
-fn ring_means<const E: usize>(
-    grid: Grid<E>,
-    re: &[f64],
-    im: &[f64],
-    n: u64,
-    count: &[u64],
-    out: &mut [f64],
-) {
-    out.fill(0.0);
-    let inv = 1.0 / n as f64;
-    for i in 0..grid.len() {
-        if let Some(r) = grid.ring(i) {
-            out[r] += f64::from(grid.multiplicity(i)) * (re[i] * re[i] + im[i] * im[i]) * inv;
-        }
-    }
-    for (m, &c) in out.iter_mut().zip(count) {
-        if c > 0 {
-            *m /= c as f64;
-        }
     }
 }
 
@@ -834,16 +812,15 @@ fn worker<const D: usize, const E: usize>(job: &Job<'_, E>) -> Result<(), String
                 }
                 Some(plan) => {
                     sample_coords::<D, E>(cfg, &pts, &mut buf)?;
-                    let len = job.grid.len();
-                    let (mut re, mut im) = (vec![0.0; len], vec![0.0; len]);
-                    plan.transform(&buf, &mut re, &mut im)
+                    let mut amps = spectrum::Amplitudes::new_vec(job.grid);
+                    plan.transform_into(&buf, &mut amps)
                         .map_err(|e| format!("--method nufft: {e}"))?;
-                    let n = buf.len() as u64;
-                    if n == 0 {
+                    if amps.count() == 0 {
                         return Err("no points".into());
                     }
-                    ring_means(job.grid, &re, &im, n, &count, &mut ring);
-                    Ok(Some(Amplitudes::Nufft { re, im, n }))
+                    amps.radial_power(&mut ring, &mut count)
+                        .map_err(|e| e.to_string())?;
+                    Ok(Some(Amplitudes::Nufft(amps)))
                 }
             });
         if let Err(e) = &step {

@@ -26,6 +26,7 @@
 //! | [`Sobol`] (Owen-scrambled, Burley 2020) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`Halton`] (Owen-scrambled) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing), toroidal | 1–3 | from the radius |
+//! | `PoissonDiskN`: exactly `N` points of a [`PoissonDisk`] set (`alloc` feature; each fill generates the whole set) | 1–3 | `≤` [`PoissonDisk::max_points`] |
 //! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
 //!
 //! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
@@ -47,6 +48,8 @@ pub use halton::{radical_inverse, Halton, HALTON_BASES, HALTON_DIMENSIONS};
 pub use jittered::Jittered;
 pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
 pub use nrooks::NRooks;
+#[cfg(feature = "alloc")]
+pub use poisson::PoissonDiskN;
 pub use poisson::{
     poisson_max_radius, PoissonDisk, PoissonMethod, BRIDSON_DEFAULT_CANDIDATES,
     BRIDSON_MAX_CANDIDATES, POISSON_MAX_CELLS, POISSON_MAX_CELLS_1D,
@@ -307,7 +310,7 @@ impl<const D: usize, G: Generate<D>> Pattern<D> for G {
     }
 }
 
-fn soa_len<const D: usize>(out: &[&mut [f32]; D]) -> Result<usize, PatternError> {
+pub(crate) fn soa_len<const D: usize>(out: &[&mut [f32]; D]) -> Result<usize, PatternError> {
     let len = out.first().map_or(0, |s| s.len());
     for s in out.iter() {
         if s.len() != len {

@@ -1,4 +1,5 @@
-//! Poisson-disk sampling on the unit torus: [`PoissonDisk`].
+//! Poisson-disk sampling on the unit torus: [`PoissonDisk`], and exactly `N`
+//! of its points as a pattern ([`PoissonDiskN`], `alloc` feature).
 
 use super::{check_dims, odometer_step, unit_f32, ONE_MINUS_EPSILON};
 use crate::error::PatternError;
@@ -454,6 +455,110 @@ impl<const D: usize> PoissonDisk<D> {
         self.generate_n(n, seed, &mut scratch, &mut out)?;
         out.truncate(n);
         Ok(out)
+    }
+}
+
+/// Exactly `n` points of a Poisson-disk set as a [`super::Pattern`]: for a
+/// seed, the `n` points of [`PoissonDisk::generate_n_vec`] (a run of the disk
+/// sampler followed by a uniformly random subset of `n` of its points), bit for
+/// bit. Fewer than `n` points fitting in a run is an error
+/// ([`PatternError::Shortfall`]) that says so. With the `alloc` feature.
+///
+/// **Every fill generates the whole set and allocates** (the disk sampler's
+/// grid, its output and the subset): a Poisson-disk set is produced by one
+/// sequential run whose every point depends on the points before it, and the
+/// random subset is drawn from all of them, so point `i` cannot be computed on
+/// its own (no random access) and a fill of any range costs a full run. Use it
+/// where a `Pattern` is needed (estimators, spectra over realisations), not on
+/// a hot path that fills small ranges; fill all `n` points at once.
+#[cfg(feature = "alloc")]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PoissonDiskN<const D: usize> {
+    disk: PoissonDisk<D>,
+    n: usize,
+}
+
+#[cfg(feature = "alloc")]
+impl<const D: usize> PoissonDiskN<D> {
+    /// `n` points of the Poisson-disk sets of `disk`.
+    ///
+    /// # Errors
+    /// [`PatternError::ZeroPoints`] if `n = 0`; [`PatternError::TooManyPoints`]
+    /// if `n` exceeds [`PoissonDisk::max_points`] (no run can give that many).
+    pub fn new(disk: PoissonDisk<D>, n: usize) -> Result<Self, PatternError> {
+        super::check_n(n, disk.max_points() as u64)?;
+        Ok(PoissonDiskN { disk, n })
+    }
+
+    /// The disk sampler.
+    #[must_use]
+    pub fn disk(&self) -> &PoissonDisk<D> {
+        &self.disk
+    }
+
+    /// `N`, the number of points.
+    #[must_use]
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// Points `first .. first + len` of the set for `seed` (generates all of it).
+    fn points(
+        &self,
+        seed: Seed,
+        first: usize,
+        len: usize,
+    ) -> Result<alloc::vec::Vec<[f32; D]>, PatternError> {
+        super::check_range(self.n as u64, first, len)?;
+        let mut all = self.disk.generate_n_vec(self.n, seed)?;
+        all.truncate(first + len);
+        all.drain(..first);
+        Ok(all)
+    }
+}
+
+#[cfg(feature = "alloc")]
+impl<const D: usize> super::Pattern<D> for PoissonDiskN<D> {
+    fn len(&self) -> usize {
+        self.n
+    }
+
+    /// Generates the whole set (allocates) and copies the range.
+    fn fill_range(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        out.copy_from_slice(&self.points(seed, first, out.len())?);
+        Ok(())
+    }
+
+    /// As [`super::Pattern::fill_range`] (the run has no separate scalar path).
+    fn fill_range_scalar(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: &mut [[f32; D]],
+    ) -> Result<(), PatternError> {
+        self.fill_range(seed, first, out)
+    }
+
+    /// Generates the whole set (allocates) and scatters the range.
+    fn fill_range_soa(
+        &self,
+        seed: Seed,
+        first: usize,
+        out: [&mut [f32]; D],
+    ) -> Result<(), PatternError> {
+        let len = super::soa_len(&out)?;
+        let pts = self.points(seed, first, len)?;
+        for (j, col) in out.into_iter().enumerate() {
+            for (x, p) in col.iter_mut().zip(&pts) {
+                *x = p[j];
+            }
+        }
+        Ok(())
     }
 }
 

@@ -1,7 +1,7 @@
 //! The direct (exact) Fourier amplitudes of one realisation, accumulated in
 //! chunks of samples. See the [module documentation](super) for the maths.
 
-use super::{check_finite, zero_prefix, Coordinate, Grid, ONE_D_STRIDE, TILE};
+use super::{check_finite, zero_prefix, AmplitudeView, Coordinate, Grid, ONE_D_STRIDE, TILE};
 use crate::error::SpectrumError;
 use crate::geom::Direction;
 use crate::num::lane::F64Lane;
@@ -124,7 +124,8 @@ fn fill_row_table(
 /// `alloc` feature) of [`Dft::buffer_len`] values. Feeding a realisation in
 /// chunks gives **bit-identical** amplitudes for any chunk size (each amplitude
 /// is one fused multiply-add chain over the samples, in sample order), and the
-/// SIMD and scalar paths agree bit for bit.
+/// SIMD and scalar paths agree bit for bit. The amplitudes, the power and the
+/// ring means of the realisation are read through [`AmplitudeView`].
 ///
 /// # Accuracy
 /// Each phase is reduced modulo 1 exactly, so the error does not grow with the
@@ -207,78 +208,6 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         let n = Self::buffer_len(self.grid);
         self.buf.as_mut()[..n].fill(0.0);
         self.count = 0;
-    }
-
-    /// `F(j)` at a half-grid index of the grid (see [`Grid::freq`]).
-    ///
-    /// # Panics
-    /// If `index ≥ grid.len()`.
-    #[must_use]
-    pub fn amplitude_at(&self, index: usize) -> Complex {
-        assert!(index < self.grid.len(), "index out of range");
-        let cols = self.grid.cols();
-        let (row, col) = (index / cols, index % cols);
-        let off = row * self.grid.stride() + col;
-        let half = self.grid.storage_len();
-        let b = self.buf.as_ref();
-        Complex {
-            re: b[off],
-            im: b[half + off],
-        }
-    }
-
-    /// `F(j)` at any frequency of the full grid (`|j_a| ≤ k`), using
-    /// `F(−j) = conj F(j)` for real weights; `None` outside the grid.
-    #[must_use]
-    pub fn amplitude(&self, j: [i32; D]) -> Option<Complex> {
-        let (idx, conj) = self.grid.index(j)?;
-        let c = self.amplitude_at(idx);
-        Some(if conj {
-            Complex {
-                re: c.re,
-                im: -c.im,
-            }
-        } else {
-            c
-        })
-    }
-
-    /// `|F(j)|²/N` for every half-grid cell, into `out` (grid layout), where
-    /// `N` is [`Dft::count`]: the periodogram `N·P(ν)` of this realisation.
-    ///
-    /// # Errors
-    /// [`SpectrumError::Length`] if `out.len() != grid.len()`;
-    /// [`SpectrumError::Empty`] if no sample was added.
-    pub fn power(&self, out: &mut [f64]) -> Result<(), SpectrumError> {
-        let g = self.grid;
-        if out.len() != g.len() {
-            return Err(SpectrumError::Length {
-                name: "out",
-                expected: g.len(),
-                got: out.len(),
-            });
-        }
-        if self.count == 0 {
-            return Err(SpectrumError::Empty);
-        }
-        self.for_each_power(|i, v| out[i] = v);
-        Ok(())
-    }
-
-    /// Calls `f(index, |F|²/N)` for every half-grid cell in index order.
-    pub(crate) fn for_each_power(&self, mut f: impl FnMut(usize, f64)) {
-        let g = self.grid;
-        let (cols, stride) = (g.cols(), g.stride());
-        let half = g.storage_len();
-        let b = self.buf.as_ref();
-        let inv_n = 1.0 / self.count as f64;
-        for row in 0..g.rows() {
-            for col in 0..cols {
-                let o = row * stride + col;
-                let (re, im) = (b[o], b[half + o]);
-                f(row * cols + col, (re * re + im * im) * inv_n);
-            }
-        }
     }
 
     /// Adds points `x_k` (any finite coordinates; only `x mod 1` matters):
@@ -561,6 +490,44 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
                 }
             }
             t0 = t1;
+        }
+    }
+}
+
+impl<const D: usize, B: AsRef<[f64]>> AmplitudeView<D> for Dft<D, B> {
+    fn grid(&self) -> Grid<D> {
+        self.grid
+    }
+
+    fn count(&self) -> u64 {
+        self.count
+    }
+
+    /// # Panics
+    /// If `index ≥ grid.len()`.
+    fn amplitude_at(&self, index: usize) -> Complex {
+        assert!(index < self.grid.len(), "index out of range");
+        let cols = self.grid.cols();
+        let (row, col) = (index / cols, index % cols);
+        let off = row * self.grid.stride() + col;
+        let half = self.grid.storage_len();
+        let b = self.buf.as_ref();
+        Complex {
+            re: b[off],
+            im: b[half + off],
+        }
+    }
+
+    /// One run per grid row (the rows of the internal storage are padded to
+    /// the tile width; a long 1D grid is one contiguous run).
+    fn for_each_run(&self, f: &mut dyn FnMut(usize, &[f64], &[f64])) {
+        let g = self.grid;
+        let (cols, stride) = (g.cols(), g.stride());
+        let half = g.storage_len();
+        let (re, im) = self.buf.as_ref()[..2 * half].split_at(half);
+        for row in 0..g.rows() {
+            let o = row * stride;
+            f(row * cols, &re[o..o + cols], &im[o..o + cols]);
         }
     }
 }

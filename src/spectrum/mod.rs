@@ -50,12 +50,33 @@
 //! vectorised over columns with `f64x4` fused multiply-adds. A long 1D grid
 //! is split the same way, `j = 64a + b` (row phasor `e^{−2πi·a·64x}`, column
 //! phasor `e^{−2πi·b·x}`). Cost: about `N·|grid|` complex multiply-adds.
+//!
+//! # One view of the amplitudes
+//!
+//! [`AmplitudeView`] is what every consumer reads: the grid, the sample count
+//! `N` and the half-grid amplitudes, from which the per-cell power `|F|²/N`,
+//! the ring means of one realisation ([`AmplitudeView::radial_power`]) and
+//! [`Periodogram::add`] are computed by one piece of code. It is implemented
+//! by [`Dft`] (the direct path) and by [`Amplitudes`], a plain buffer in grid
+//! layout that an external transform (a NUFFT) fills, so both paths give the
+//! same numbers from the same amplitudes, bit for bit.
+//!
+//! # Persisting accumulators
+//!
+//! [`Periodogram::parts`] and [`Periodogram::from_parts`] (and
+//! [`crate::stats::RunningStats::parts`] / `from_parts`) export and import
+//! the exact accumulator state as plain numbers, so a caller can store it
+//! (the kernel has no serialisation dependency), resume a run, or merge shards
+//! computed on other machines: an imported accumulator is the exported one,
+//! bit for bit, so it adds and merges exactly as the original would.
 
+mod amplitudes;
 mod dft;
 
+pub use amplitudes::{AmplitudeView, Amplitudes};
 pub use dft::Dft;
 
-use crate::error::SpectrumError;
+use crate::error::{ParamError, SpectrumError};
 use crate::num::{sinc, two_sum};
 
 /// Columns per register tile; rows are padded to a multiple of it.
@@ -403,6 +424,70 @@ impl<const D: usize, B> Periodogram<D, B> {
     }
 }
 
+impl<const D: usize, B: AsRef<[f64]>> Periodogram<D, B> {
+    /// The accumulator state, to persist it (resume a run, merge shards
+    /// computed elsewhere): the first [`Periodogram::buffer_len`] values of
+    /// the buffer (the per-cell sums in grid layout, then their
+    /// compensations) and the number of realisations.
+    /// [`Periodogram::from_parts`] rebuilds the same accumulator, bit for bit.
+    #[must_use]
+    pub fn parts(&self) -> (&[f64], u64) {
+        (
+            &self.buf.as_ref()[..Self::buffer_len(self.grid)],
+            self.realisations,
+        )
+    }
+
+    /// An accumulator holding exported state ([`Periodogram::parts`]): `buf`
+    /// starts with the [`Periodogram::buffer_len`] values, which are kept
+    /// as they are (not zeroed), and `realisations` is the realisation count.
+    ///
+    /// # Errors
+    /// [`SpectrumError::Length`] (naming `buf`) if `buf` is shorter than
+    /// [`Periodogram::buffer_len`]; [`SpectrumError::NonFinite`] (naming
+    /// `buf` and the index) if one of those values is NaN or ±∞;
+    /// [`SpectrumError::Param`] with [`ParamError::OutOfRange`] naming `buf`
+    /// if a per-cell sum (the first `grid.len()` values) is negative (every
+    /// added value is `|F|²/N ≥ 0`), and with [`ParamError::Count`] naming
+    /// `realisations` if it is 0 while a value is non-zero.
+    pub fn from_parts(grid: Grid<D>, buf: B, realisations: u64) -> Result<Self, SpectrumError> {
+        let need = Self::buffer_len(grid);
+        let b = buf.as_ref();
+        if b.len() < need {
+            return Err(SpectrumError::Length {
+                name: "buf",
+                expected: need,
+                got: b.len(),
+            });
+        }
+        let b = &b[..need];
+        if let Some(index) = b.iter().position(|v| !v.is_finite()) {
+            return Err(SpectrumError::NonFinite { name: "buf", index });
+        }
+        if let Some(&value) = b[..grid.len()].iter().find(|&&v| v < 0.0) {
+            return Err(ParamError::OutOfRange {
+                name: "buf",
+                value,
+                min: 0.0,
+                max: f64::MAX,
+            }
+            .into());
+        }
+        if realisations == 0 && b.iter().any(|&v| v != 0.0) {
+            return Err(ParamError::Count {
+                name: "realisations",
+                value: 0,
+            }
+            .into());
+        }
+        Ok(Periodogram {
+            grid,
+            buf,
+            realisations,
+        })
+    }
+}
+
 impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// An empty accumulator over the caller's buffer (zeroed here).
     ///
@@ -427,52 +512,27 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
         b[n + i] += e;
     }
 
-    /// Adds one finished realisation: `|F(ν)|²/N` per cell.
+    /// Adds one finished realisation: `|F(ν)|²/N` per cell, from any view of
+    /// its amplitudes ([`Dft`], [`Amplitudes`] filled by an external transform,
+    /// …), evaluated as [`AmplitudeView`] documents.
     ///
     /// # Errors
     /// [`SpectrumError::GridMismatch`]; [`SpectrumError::Empty`] if the
-    /// realisation has no samples. Nothing is added on error.
-    pub fn add<B2: AsRef<[f64]> + AsMut<[f64]>>(
-        &mut self,
-        dft: &Dft<D, B2>,
-    ) -> Result<(), SpectrumError> {
-        self.check_grid(dft.grid())?;
-        if dft.count() == 0 {
+    /// realisation has no samples; [`SpectrumError::NonFinite`] (naming
+    /// `amplitudes` and the first bad cell) if an amplitude is NaN or ±∞.
+    /// Nothing is added on error.
+    pub fn add<A: AmplitudeView<D> + ?Sized>(&mut self, amps: &A) -> Result<(), SpectrumError> {
+        self.check_grid(amps.grid())?;
+        if amps.count() == 0 {
             return Err(SpectrumError::Empty);
         }
-        dft.for_each_power(|i, v| self.accumulate(i, v));
-        self.realisations += 1;
-        Ok(())
-    }
-
-    /// Adds one realisation given by its amplitudes on the half grid (grid
-    /// layout, e.g. from a NUFFT) and its sample count `n`.
-    ///
-    /// # Errors
-    /// [`SpectrumError::Length`] if `re` or `im` is not `grid.len()` long;
-    /// [`SpectrumError::Empty`] if `n = 0`; [`SpectrumError::NonFinite`] if an
-    /// amplitude is NaN or ±∞. Nothing is added on error.
-    pub fn add_amplitudes(&mut self, re: &[f64], im: &[f64], n: u64) -> Result<(), SpectrumError> {
-        let len = self.grid.len();
-        check_len("re", re.len(), len)?;
-        check_len("im", im.len(), len)?;
-        if n == 0 {
-            return Err(SpectrumError::Empty);
-        }
-        if let Some(index) = re
-            .iter()
-            .zip(im)
-            .position(|(a, b)| !(a.is_finite() && b.is_finite()))
-        {
+        if let Some(index) = amplitudes::first_non_finite(amps) {
             return Err(SpectrumError::NonFinite {
                 name: "amplitudes",
                 index,
             });
         }
-        let inv = 1.0 / n as f64;
-        for i in 0..len {
-            self.accumulate(i, (re[i] * re[i] + im[i] * im[i]) * inv);
-        }
+        amplitudes::for_each_power(amps, |i, v| self.accumulate(i, v));
         self.realisations += 1;
         Ok(())
     }
@@ -553,7 +613,11 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     pub fn radial_average(&self, mean: &mut [f64], count: &mut [u64]) -> Result<(), SpectrumError> {
         check_len("mean", mean.len(), self.grid.k + 1)?;
         self.grid.ring_counts(count)?;
-        radial_into(self.grid, |i| self.mean_at(i), mean, count);
+        radial_into(self.grid, mean, count, |add| {
+            for i in 0..self.grid.len() {
+                add(i, self.mean_at(i));
+            }
+        });
         Ok(())
     }
 
@@ -705,44 +769,25 @@ impl<const D: usize> Grid<D> {
 }
 
 /// Ring means of a per-cell quantity (shared by periodograms and single
-/// realisations); `count` already holds the ring counts.
+/// realisations): `values` passes `(index, value)` for the cells in index
+/// order; `mean[r]` is the sum of multiplicity × value over the cells of ring
+/// `r`, divided by `count[r]` (which already holds the ring counts).
 fn radial_into<const D: usize>(
     grid: Grid<D>,
-    value: impl Fn(usize) -> f64,
     mean: &mut [f64],
     count: &[u64],
+    values: impl FnOnce(&mut dyn FnMut(usize, f64)),
 ) {
     mean.fill(0.0);
-    for i in 0..grid.len() {
+    values(&mut |i, v| {
         if let Some(r) = grid.ring(i) {
-            mean[r] += f64::from(grid.multiplicity(i)) * value(i);
+            mean[r] += f64::from(grid.multiplicity(i)) * v;
         }
-    }
+    });
     for (m, &c) in mean.iter_mut().zip(count) {
         if c > 0 {
             *m /= c as f64;
         }
-    }
-}
-
-impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
-    /// This realisation's radial average of `|F|²/N` (rings as in
-    /// [`Periodogram::radial_average`]); feed these to
-    /// [`crate::stats::RunningStats`] per ring for standard errors across
-    /// realisations. `mean` and `count` must have length `k + 1`.
-    ///
-    /// # Errors
-    /// [`SpectrumError::Length`]; [`SpectrumError::Empty`] with no samples.
-    pub fn radial_power(&self, mean: &mut [f64], count: &mut [u64]) -> Result<(), SpectrumError> {
-        let g = self.grid();
-        check_len("mean", mean.len(), g.half_width() + 1)?;
-        if self.count() == 0 {
-            return Err(SpectrumError::Empty);
-        }
-        g.ring_counts(count)?;
-        let inv = 1.0 / self.count() as f64;
-        radial_into(g, |i| self.amplitude_at(i).norm_sqr() * inv, mean, count);
-        Ok(())
     }
 }
 

@@ -1,4 +1,8 @@
-//! Type-1 non-uniform FFT with real weights, on the periodogram half grid.
+//! # linesample-nufft
+//!
+//! Type-1 non-uniform FFT with real weights, on the periodogram half grid of
+//! the `linesample` kernel: the fast (approximate, to a tolerance) path to the
+//! amplitudes that [`linesample::spectrum::Dft`] computes exactly.
 //!
 //! For points x_k ∈ [0,1)^D (D = 1, 2, 3) and real weights c_k this computes
 //!
@@ -62,10 +66,47 @@
 //! (examples/nufft_bench.rs), except σ = 5/4 below ε = 1e-9 (rounding
 //! floor, see [`Upsampling::FiveQuarters`]), which the automatic choice
 //! avoids.
+//!
+//! # With the kernel
+//!
+//! [`Plan::transform_into`] writes the amplitudes into the kernel's
+//! [`linesample::spectrum::Amplitudes`] and sets its sample count, so the
+//! result feeds [`linesample::spectrum::Periodogram::add`] and the ring means
+//! of [`linesample::spectrum::AmplitudeView`] through the same code as the
+//! direct path:
+//!
+//! ```
+//! use linesample::spectrum::{AmplitudeView, Amplitudes, Grid, Periodogram};
+//! use linesample_nufft::Plan;
+//!
+//! let grid = Grid::<2>::new(16)?;
+//! let mut plan = Plan::<2>::new(16, 1e-9)?;
+//! let mut amps = Amplitudes::new_vec(grid);
+//! let mut mean = Periodogram::new_vec(grid);
+//! let pts = [[0.1, 0.7], [0.45, 0.2], [0.8, 0.9]];
+//! plan.transform_into(&pts, &mut amps)?;
+//! mean.add(&amps)?;
+//! let (mut ring, mut count) = (vec![0.0; 17], vec![0u64; 17]);
+//! amps.radial_power(&mut ring, &mut count)?;
+//! assert!((ring[0] - 3.0).abs() < 1e-8); // DC: |F(0)|²/N = N
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! # Memory
+//!
+//! A plan holds a real fine grid of about `n^D` values (`n ≈ σ(2K+1)` per
+//! axis, the last axis padded by the kernel width), and in 3D a transpose
+//! buffer of `(K+1)(2K+1)·n` complex values. Every such buffer is reserved fallibly: a plan (or a transform's
+//! point buffers) too large for memory returns [`NufftError::Alloc`] naming
+//! the buffer and its size instead of aborting the process.
+
+#![forbid(unsafe_code)]
+#![deny(missing_docs)]
 
 use std::sync::Arc;
 
 use linesample::error::SpectrumError;
+use linesample::spectrum::Amplitudes;
 use realfft::{RealFftPlanner, RealToComplex};
 use rustfft::{num_complex::Complex, Fft, FftPlanner};
 use wide::f64x4;
@@ -467,12 +508,14 @@ fn spread<const D: usize, const NV: usize>(
 const BIN: usize = 16;
 
 /// Counting sort of the point indices by bin (row-major, last axis fastest).
+/// `counts` has one entry per bin plus one (allocated with the plan); `order`
+/// grows to the number of points, fallibly.
 fn bin_order<const D: usize>(
     points: &[[f64; D]],
     n: usize,
     order: &mut Vec<u32>,
-    counts: &mut Vec<u32>,
-) {
+    counts: &mut [u32],
+) -> Result<(), NufftError> {
     let nb = n.div_ceil(BIN);
     let scale = n as f64 / BIN as f64;
     let key = |p: &[f64; D]| {
@@ -480,21 +523,52 @@ fn bin_order<const D: usize>(
             acc * nb + ((x * scale) as usize).min(nb - 1)
         })
     };
-    counts.clear();
-    counts.resize(nb.pow(D as u32) + 1, 0);
+    order.clear();
+    try_reserve(order, "point order", points.len())?;
+    counts.fill(0);
     for p in points {
         counts[key(p) + 1] += 1;
     }
     for b in 1..counts.len() {
         counts[b] += counts[b - 1];
     }
-    order.clear();
     order.resize(points.len(), 0);
     for (i, p) in points.iter().enumerate() {
         let slot = &mut counts[key(p)];
         order[*slot as usize] = i as u32;
         *slot += 1;
     }
+    Ok(())
+}
+
+/// Reserves room for `additional` more elements of `v` without aborting on
+/// failure: a [`NufftError::Alloc`] naming the buffer and its size instead.
+fn try_reserve<T>(v: &mut Vec<T>, what: &'static str, additional: usize) -> Result<(), NufftError> {
+    v.try_reserve_exact(additional)
+        .map_err(|_| NufftError::Alloc {
+            what,
+            bytes: (additional as u128) * (core::mem::size_of::<T>() as u128),
+        })
+}
+
+/// A `Vec` of `Π factors` copies of `value`, reserved fallibly: the length and
+/// the byte count are formed in checked `u128` arithmetic, and a length that
+/// does not fit in `usize` (or overflows) or memory the allocator refuses is a
+/// [`NufftError::Alloc`] naming the buffer (`bytes` saturates at `u128::MAX`)
+/// instead of an abort.
+fn try_vec<T: Clone>(what: &'static str, factors: &[u128], value: T) -> Result<Vec<T>, NufftError> {
+    let len = factors.iter().try_fold(1u128, |a, &f| a.checked_mul(f));
+    let bytes = len
+        .and_then(|l| l.checked_mul(core::mem::size_of::<T>() as u128))
+        .unwrap_or(u128::MAX);
+    let err = NufftError::Alloc { what, bytes };
+    let len = len
+        .and_then(|l| usize::try_from(l).ok())
+        .ok_or_else(|| err.clone())?;
+    let mut v = Vec::new();
+    v.try_reserve_exact(len).map_err(|_| err)?;
+    v.resize(len, value);
+    Ok(v)
 }
 
 /// Rows transformed per real-to-complex batch before the transposed write.
@@ -536,36 +610,49 @@ pub struct Plan<const D: usize> {
     t2: Vec<Complex<f64>>,
     fscratch: Vec<Complex<f64>>,
     order: Vec<u32>,
+    /// Points per spreading bin (`⌈n/16⌉^D + 1` entries).
     counts: Vec<u32>,
     times: PhaseTimes,
 }
 
-fn next_smooth_even(m: usize) -> usize {
-    let mut n = m.max(2);
+/// The smallest even `2^a 3^b 5^c ≥ max(m, 2)`, by enumerating the exponents
+/// (`O(log² m)` steps for any `m`, so a huge `K` cannot make plan time grow
+/// with the gaps between such numbers). Products stay below `5·max(m, 2)`.
+fn next_smooth_even(m: u128) -> u128 {
+    let m = m.max(2);
+    let mut best = u128::MAX;
+    let mut p2 = 2u128;
     loop {
-        if n.is_multiple_of(2) {
-            let mut r = n;
-            for p in [2, 3, 5] {
-                while r.is_multiple_of(p) {
-                    r /= p;
-                }
+        let mut p23 = p2;
+        loop {
+            let mut p = p23;
+            while p < m {
+                p *= 5;
             }
-            if r == 1 {
-                return n;
+            best = best.min(p);
+            if p23 >= m {
+                break;
             }
+            p23 *= 3;
         }
-        n += 1;
+        if p2 >= m {
+            break;
+        }
+        p2 *= 2;
     }
+    best
 }
 
 /// Fine-grid size per axis: smallest even `2^a 3^b 5^c ≥ max(σ(2K+1), 2w, 16)`
-/// (the padding of the last axis, `4⌈w/4⌉`, is then at most n/2).
-fn fine_size_for(k: usize, w: usize, sigma: Upsampling) -> usize {
+/// (the padding of the last axis, `4⌈w/4⌉`, is then at most n/2). In `u128`,
+/// so that no `K` overflows it; plans check that the buffers it implies fit.
+fn fine_size_for(k: usize, w: usize, sigma: Upsampling) -> u128 {
     let pad = 4 * w.div_ceil(4);
+    let modes = 2 * k as u128 + 1;
     next_smooth_even(
-        ((sigma.factor() * (2 * k + 1) as f64).ceil() as usize)
-            .max(2 * w)
-            .max(2 * pad)
+        ((sigma.factor() * modes as f64).ceil() as u128)
+            .max(2 * w as u128)
+            .max(2 * pad as u128)
             .max(16),
     )
 }
@@ -588,6 +675,25 @@ pub enum NufftError {
         /// The offending value.
         value: f64,
     },
+    /// `name`'s grid has half-width `got`, the plan's is `expected`.
+    HalfWidth {
+        /// Parameter name.
+        name: &'static str,
+        /// The plan's half-width `K`.
+        expected: usize,
+        /// The half-width of the argument's grid.
+        got: usize,
+    },
+    /// The buffer `what` of `bytes` bytes could not be allocated (the
+    /// allocator refused it, or its size does not fit in the address space;
+    /// `bytes` is then `u128::MAX` if even the count overflows). Returned
+    /// instead of aborting when a plan is too large for memory.
+    Alloc {
+        /// Which buffer (e.g. `"fine grid"`).
+        what: &'static str,
+        /// Its size in bytes.
+        bytes: u128,
+    },
     /// An error the direct path reports too.
     Spectrum(SpectrumError),
 }
@@ -599,6 +705,21 @@ impl core::fmt::Display for NufftError {
             NufftError::TooManyPoints(n) => write!(f, "points: at most 2^32 − 1 points, got {n}"),
             NufftError::NonFinitePoint { index, axis, value } => {
                 write!(f, "points[{index}][{axis}] = {value} is not finite")
+            }
+            NufftError::HalfWidth {
+                name,
+                expected,
+                got,
+            } => write!(
+                f,
+                "{name}: grid of half-width {got}, but the plan has half-width {expected}"
+            ),
+            NufftError::Alloc { what, bytes } => {
+                if *bytes == u128::MAX {
+                    write!(f, "cannot allocate the {what}: its size overflows")
+                } else {
+                    write!(f, "cannot allocate the {what} ({bytes} bytes)")
+                }
             }
             NufftError::Spectrum(e) => e.fmt(f),
         }
@@ -642,6 +763,14 @@ impl<const D: usize> Plan<D> {
     /// `n = ` smallest even `2^a 3^b 5^c ≥ max(σ(2K+1), 2w, 16)` per axis,
     /// kernel width and β from [`Upsampling::kernel_params`] (Barnett et al.,
     /// SIAM J. Sci. Comput. 2019, §4).
+    ///
+    /// Every buffer whose size grows with `K` (the fine grid, the FFT row
+    /// blocks, the transpose buffers, the deconvolution table, the spreading
+    /// bins, the FFT scratch) is reserved fallibly, largest first, before the
+    /// FFTs are planned: a plan too large for memory is a
+    /// [`NufftError::Alloc`] naming the buffer and its size, not an abort.
+    /// (The FFT planners' own twiddle tables, `O(n)` values, are allocated
+    /// by `realfft`/`rustfft`.)
     pub fn with_upsampling(k: usize, tol: f64, sigma: Upsampling) -> Result<Self, NufftError> {
         if !(1..=3).contains(&D) {
             return Err(SpectrumError::Dimension { dim: D }.into());
@@ -650,8 +779,45 @@ impl<const D: usize> Plan<D> {
         let (w, beta) = sigma.kernel_params(tol);
         let kernel = Kernel::new(w, beta, tol);
         let pad = 4 * kernel.nv;
-        let modes = 2 * k + 1;
-        let n = fine_size_for(k, w, sigma);
+        let n_wide = fine_size_for(k, w, sigma);
+        // Sizes in u128: (K + 1), 2K + 1, n, n + 2·pad and their products
+        // cannot overflow silently (try_vec checks every product).
+        let (k1, modes) = (k as u128 + 1, 2 * k as u128 + 1);
+        let row_len = n_wide + 2 * pad as u128;
+        let rows_total = (1..D).try_fold(1u128, |a, _| a.checked_mul(n_wide));
+        let grid = try_vec(
+            "fine grid",
+            &[rows_total.unwrap_or(u128::MAX), row_len],
+            0.0f64,
+        )?;
+        // The fine grid holds n^D values, so n, K and everything below fit in
+        // usize from here on (n ≥ 2K + 1).
+        let n = usize::try_from(n_wide).map_err(|_| NufftError::Alloc {
+            what: "fine grid",
+            bytes: u128::MAX,
+        })?;
+        let (t1_dims, t2_dims): (&[u128], &[u128]) = match D {
+            1 => (&[0], &[0]),
+            2 => (&[k1, n_wide], &[0]),
+            _ => (&[k1, n_wide], &[k1, modes, n_wide]),
+        };
+        let t2 = try_vec("3D transpose buffer", t2_dims, Complex::default())?;
+        let t1 = try_vec("transpose buffer", t1_dims, Complex::default())?;
+        let rin = try_vec("FFT input rows", &[BLOCK as u128, n_wide], 0.0f64)?;
+        let half = n / 2 + 1;
+        let rout = try_vec(
+            "FFT output rows",
+            &[BLOCK as u128, half as u128],
+            Complex::default(),
+        )?;
+        let bins = n.div_ceil(BIN) as u128;
+        let bins_total = (0..D).try_fold(1u128, |a, _| a.checked_mul(bins));
+        let counts = try_vec(
+            "spreading bins",
+            &[bins_total.map_or(u128::MAX, |b| b.saturating_add(1))],
+            0u32,
+        )?;
+        let mut deconv = try_vec("deconvolution table", &[k1], 0.0f64)?;
         let geom = Geometry {
             n,
             pad,
@@ -671,25 +837,23 @@ impl<const D: usize> Plan<D> {
                 (z, 0.5 * wt * es_kernel(z, beta))
             })
             .collect();
-        let deconv = (0..=k)
-            .map(|j| {
-                let a = core::f64::consts::PI * j as f64 * w as f64 / n as f64;
-                let s: f64 = zw.iter().map(|&(z, fw)| fw * (a * z).cos()).sum();
-                1.0 / (2.0 * alpha * s)
-            })
-            .collect();
+        for (j, d) in deconv.iter_mut().enumerate() {
+            let a = core::f64::consts::PI * j as f64 * w as f64 / n as f64;
+            let s: f64 = zw.iter().map(|&(z, fw)| fw * (a * z).cos()).sum();
+            *d = 1.0 / (2.0 * alpha * s);
+        }
         let r2c = RealFftPlanner::<f64>::new().plan_fft_forward(n);
         let fft = FftPlanner::<f64>::new().plan_fft_forward(n);
-        let half = n / 2 + 1;
-        let rows_total = n.pow(D as u32 - 1);
-        let grid = vec![0.0; rows_total * geom.row_len];
-        let (t1_len, t2_len) = match D {
-            1 => (0, 0),
-            2 => ((k + 1) * n, 0),
-            _ => ((k + 1) * n, (k + 1) * modes * n),
-        };
-        let rscratch = r2c.make_scratch_vec();
-        let fscratch = vec![Complex::default(); fft.get_inplace_scratch_len()];
+        let rscratch = try_vec(
+            "FFT scratch",
+            &[r2c.get_scratch_len() as u128],
+            Complex::default(),
+        )?;
+        let fscratch = try_vec(
+            "FFT scratch",
+            &[fft.get_inplace_scratch_len() as u128],
+            Complex::default(),
+        )?;
         Ok(Plan {
             k,
             tol,
@@ -700,14 +864,14 @@ impl<const D: usize> Plan<D> {
             grid,
             r2c,
             fft,
-            rin: vec![0.0; BLOCK * n],
-            rout: vec![Complex::default(); BLOCK * half],
+            rin,
+            rout,
             rscratch,
-            t1: vec![Complex::default(); t1_len],
-            t2: vec![Complex::default(); t2_len],
+            t1,
+            t2,
             fscratch,
             order: Vec::new(),
-            counts: Vec::new(),
+            counts,
             times: PhaseTimes::default(),
         })
     }
@@ -767,6 +931,13 @@ impl<const D: usize> Plan<D> {
     /// `re`, `im` (each of length [`Plan::half_len`]). Points are wrapped into
     /// [0,1) by `x − ⌊x⌋`; a non-finite coordinate is an error. Method:
     /// Barnett, Magland & af Klinteberg, SIAM J. Sci. Comput. 2019.
+    ///
+    /// # Errors
+    /// [`NufftError::NonFinitePoint`], [`NufftError::TooManyPoints`], a
+    /// [`SpectrumError::Length`] naming `re` or `im`, and
+    /// [`NufftError::Alloc`] if the per-transform point buffers (the spreading
+    /// order, `4·N` bytes, and for points outside `[0, 1)` their wrapped copy)
+    /// cannot be allocated. `re` and `im` are unchanged on error.
     pub fn transform(
         &mut self,
         points: &[[f64; D]],
@@ -806,6 +977,62 @@ impl<const D: usize> Plan<D> {
         self.run(points, Some(weights), re, im)
     }
 
+    /// `F(ν) = Σ_k exp(−2πi ν·x_k)` (all weights 1) on the half grid into the
+    /// kernel's amplitude view `out` (as [`Plan::transform`]), whose sample
+    /// count is set to `points.len()`: `out` then feeds
+    /// [`linesample::spectrum::Periodogram::add`] and
+    /// [`linesample::spectrum::AmplitudeView::radial_power`] exactly like a
+    /// [`linesample::spectrum::Dft`] of the same points, to the plan's
+    /// tolerance.
+    ///
+    /// # Errors
+    /// [`NufftError::HalfWidth`] naming `out` if `out`'s grid is not the
+    /// plan's half-width; as [`Plan::transform`]. `out` is unchanged on error.
+    pub fn transform_into<B: AsRef<[f64]> + AsMut<[f64]>>(
+        &mut self,
+        points: &[[f64; D]],
+        out: &mut Amplitudes<D, B>,
+    ) -> Result<(), NufftError> {
+        self.check_out(out)?;
+        let (re, im) = out.parts_mut();
+        self.run(points, None, re, im)?;
+        out.set_count(points.len() as u64);
+        Ok(())
+    }
+
+    /// [`Plan::transform_weighted`] into the kernel's amplitude view `out`,
+    /// whose sample count is set to `points.len()` (the normalisation `N` of
+    /// `|F|²/N`, as for the direct path's weighted samples, segments).
+    ///
+    /// # Errors
+    /// As [`Plan::transform_into`] and [`Plan::transform_weighted`]. `out` is
+    /// unchanged on error.
+    pub fn transform_weighted_into<B: AsRef<[f64]> + AsMut<[f64]>>(
+        &mut self,
+        points: &[[f64; D]],
+        weights: &[f64],
+        out: &mut Amplitudes<D, B>,
+    ) -> Result<(), NufftError> {
+        self.check_out(out)?;
+        let (re, im) = out.parts_mut();
+        self.transform_weighted(points, weights, re, im)?;
+        out.set_count(points.len() as u64);
+        Ok(())
+    }
+
+    fn check_out<B>(&self, out: &Amplitudes<D, B>) -> Result<(), NufftError> {
+        let got = out.grid().half_width();
+        if got == self.k {
+            Ok(())
+        } else {
+            Err(NufftError::HalfWidth {
+                name: "out",
+                expected: self.k,
+                got,
+            })
+        }
+    }
+
     fn run(
         &mut self,
         points: &[[f64; D]],
@@ -834,9 +1061,10 @@ impl<const D: usize> Plan<D> {
             .iter()
             .all(|p| p.iter().all(|&x| (0.0..1.0).contains(&x)));
         if in_unit {
-            self.spread_dispatch(points, weights);
+            self.spread_dispatch(points, weights)?;
         } else {
-            let mut wrapped = Vec::with_capacity(points.len());
+            let mut wrapped = Vec::new();
+            try_reserve(&mut wrapped, "wrapped points", points.len())?;
             for (i, p) in points.iter().enumerate() {
                 let mut q = *p;
                 for (d, x) in q.iter_mut().enumerate() {
@@ -851,7 +1079,7 @@ impl<const D: usize> Plan<D> {
                 }
                 wrapped.push(q);
             }
-            self.spread_dispatch(&wrapped, weights);
+            self.spread_dispatch(&wrapped, weights)?;
         }
         let t1 = std::time::Instant::now();
         match D {
@@ -865,8 +1093,12 @@ impl<const D: usize> Plan<D> {
         Ok(())
     }
 
-    fn spread_dispatch(&mut self, points: &[[f64; D]], weights: Option<&[f64]>) {
-        bin_order(points, self.geom.n, &mut self.order, &mut self.counts);
+    fn spread_dispatch(
+        &mut self,
+        points: &[[f64; D]],
+        weights: Option<&[f64]>,
+    ) -> Result<(), NufftError> {
+        bin_order(points, self.geom.n, &mut self.order, &mut self.counts)?;
         let (g, kr, grid) = (self.geom, &self.kernel, &mut self.grid[..]);
         let o = &self.order[..];
         match kr.nv {
@@ -878,6 +1110,7 @@ impl<const D: usize> Plan<D> {
             6 => spread::<D, 6>(grid, g, kr, points, weights, o),
             _ => unreachable!("kernel width is at most 24"),
         }
+        Ok(())
     }
 
     /// Fold padded row `r` periodically into `out` (length n) and clear the
@@ -1281,6 +1514,151 @@ mod tests {
         assert_eq!(p.upsampling(), Upsampling::FiveQuarters);
         assert_eq!(p.fine_size(), 800);
         assert_eq!(p.half_len(), 320 * 639);
+    }
+
+    #[test]
+    fn plans_too_large_for_memory_are_errors() {
+        // 3D, K = 100 000: the fine grid is about n³·8 ≈ 1e17 bytes.
+        let e = Plan::<3>::new(100_000, 1e-6).err().expect("no such memory");
+        match e {
+            NufftError::Alloc { what, bytes } => {
+                assert_eq!(what, "fine grid");
+                assert!(bytes > 1e16 as u128 && bytes < 1e19 as u128, "{bytes}");
+            }
+            other => panic!("{other}"),
+        }
+        assert!(
+            e.to_string().starts_with("cannot allocate the fine grid ("),
+            "{e}"
+        );
+        // Sizes whose byte count overflows u128 (3D), or whose length does not
+        // fit in usize (1D), and σ from the cost model: errors too.
+        for k in [usize::MAX / 4, usize::MAX] {
+            let e = Plan::<3>::new_for_points(k, 1e-3, 10).err().unwrap();
+            assert_eq!(
+                e,
+                NufftError::Alloc {
+                    what: "fine grid",
+                    bytes: u128::MAX
+                }
+            );
+            assert!(e.to_string().contains("overflows"), "{e}");
+            let e = Plan::<1>::with_upsampling(k, 1e-12, Upsampling::Two)
+                .err()
+                .unwrap();
+            assert!(matches!(e, NufftError::Alloc { .. }), "{e}");
+            let e = Plan::<2>::new(k, 1e-9).err().unwrap();
+            assert!(matches!(e, NufftError::Alloc { .. }), "{e}");
+        }
+    }
+
+    #[test]
+    fn smooth_sizes_match_the_definition() {
+        // The smallest even 2^a 3^b 5^c ≥ max(m, 2), by brute force.
+        fn brute(m: u128) -> u128 {
+            let mut n = m.max(2);
+            loop {
+                if n.is_multiple_of(2) {
+                    let mut r = n;
+                    for p in [2, 3, 5] {
+                        while r.is_multiple_of(p) {
+                            r /= p;
+                        }
+                    }
+                    if r == 1 {
+                        return n;
+                    }
+                }
+                n += 1;
+            }
+        }
+        for m in 0..20_000u128 {
+            assert_eq!(next_smooth_even(m), brute(m), "m = {m}");
+        }
+        assert_eq!(next_smooth_even(1 << 80), 1 << 80);
+        // Far beyond usize (no brute force): even, 5-smooth, ≥ m, and no
+        // larger than the candidate 3·2^79.
+        let m = (1u128 << 80) + 1;
+        let n = next_smooth_even(m);
+        let mut r = n;
+        for p in [2, 3, 5] {
+            while r.is_multiple_of(p) {
+                r /= p;
+            }
+        }
+        assert!(
+            n.is_multiple_of(2) && r == 1 && n >= m && n <= 3 << 79,
+            "{n}"
+        );
+    }
+
+    #[test]
+    fn transform_into_fills_the_kernel_view() {
+        use linesample::spectrum::{AmplitudeView, Grid, Periodogram};
+        fn check<const D: usize>(k: usize, n_pts: usize) {
+            let grid = Grid::<D>::new(k).unwrap();
+            let pts = points::<D>(9 + D as u64, n_pts);
+            let mut plan = Plan::<D>::new(k, 1e-9).unwrap();
+            let (mut re, mut im) = (vec![0.0; plan.half_len()], vec![0.0; plan.half_len()]);
+            plan.transform(&pts, &mut re, &mut im).unwrap();
+            let mut amps = Amplitudes::new_vec(grid);
+            plan.transform_into(&pts, &mut amps).unwrap();
+            assert_eq!(amps.count(), n_pts as u64);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(amps.parts().0), bits(&re));
+            assert_eq!(bits(amps.parts().1), bits(&im));
+            // The kernel's ring means are the lab's former formula
+            // (mult·(re² + im²))·(1/n), bit for bit, on NUFFT output.
+            let (mut ring, mut count) = (vec![0.0; k + 1], vec![0u64; k + 1]);
+            amps.radial_power(&mut ring, &mut count).unwrap();
+            let mut old = vec![0.0; k + 1];
+            let inv = 1.0 / n_pts as f64;
+            for i in 0..grid.len() {
+                if let Some(r) = grid.ring(i) {
+                    old[r] +=
+                        f64::from(grid.multiplicity(i)) * (re[i] * re[i] + im[i] * im[i]) * inv;
+                }
+            }
+            for (m, &c) in old.iter_mut().zip(&count) {
+                *m /= c as f64;
+            }
+            assert_eq!(bits(&ring), bits(&old), "{D}D");
+            let mut per = Periodogram::new_vec(grid);
+            per.add(&amps).unwrap();
+            let dc = per.mean([0; D]).unwrap();
+            assert!((dc - n_pts as f64).abs() < 1e-6 * n_pts as f64, "{dc}");
+            // Weighted, and weights 1 give the unweighted bits.
+            let mut w = Amplitudes::new_vec(grid);
+            plan.transform_weighted_into(&pts, &vec![1.0; n_pts], &mut w)
+                .unwrap();
+            assert_eq!(w.count(), n_pts as u64);
+            assert_eq!(bits(w.parts().0), bits(&re));
+            // Another half-width is an error naming `out`; `out` is unchanged.
+            let mut other = Amplitudes::new_vec(Grid::<D>::new(k + 1).unwrap());
+            let e = plan.transform_into(&pts, &mut other).unwrap_err();
+            assert_eq!(
+                e,
+                NufftError::HalfWidth {
+                    name: "out",
+                    expected: k,
+                    got: k + 1
+                }
+            );
+            assert!(e.to_string().starts_with("out: "), "{e}");
+            assert_eq!(other.count(), 0);
+            let e = plan
+                .transform_weighted_into(&pts, &[1.0], &mut amps)
+                .unwrap_err();
+            assert!(e.to_string().starts_with("weights: "), "{e}");
+            assert_eq!(amps.count(), n_pts as u64);
+            let bad = [[f64::NAN; D]];
+            assert!(plan.transform_into(&bad, &mut amps).is_err());
+            assert_eq!(bits(amps.parts().0), bits(&re));
+            assert_eq!(amps.count(), n_pts as u64);
+        }
+        check::<1>(30, 50);
+        check::<2>(12, 80);
+        check::<3>(5, 40);
     }
 
     #[test]

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Time FINUFFT's type-1 transform on the same cases as lab/examples/nufft_bench.rs.
+"""Time FINUFFT's type-1 transform on the same cases as nufft/examples/nufft_bench.rs.
 
-Usage: OMP_NUM_THREADS=1 python3 tools/finufft_bench.py [--json] [--runs R]
+Usage: OMP_NUM_THREADS=1 python3 nufft/tools/finufft_bench.py [--json] [--runs R]
            [--case 2d-65536,2d-4096,3d-4096] [--tols 1e-6,1e-12] [--ref-dir DIR]
 
 Points are uniform in [0,1)^D from SplitMix64 with seed 42, bit-identical to the

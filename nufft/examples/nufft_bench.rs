@@ -1,15 +1,15 @@
-//! Tolerance sweep of the type-1 NUFFT (`linesample_lab::nufft`) on the
+//! Tolerance sweep of the type-1 NUFFT (`linesample_nufft`) on the
 //! issue's benchmark cases, with accuracy against an exact direct sum.
 //!
 //! ```text
-//! cargo run --release -p linesample-lab --example nufft_bench -- [--json] [--runs R]
+//! cargo run --release -p linesample-nufft --example nufft_bench -- [--json] [--runs R]
 //!     [--sigma auto|auto-k|2|1.25|both] [--case 2d-65536|2d-4096|3d-4096] [--tols 1e-6,1e-12]
 //!     [--ref-dir DIR]
 //! ```
 //!
 //! `--ref-dir DIR` also writes each case's direct-sum reference as raw
 //! little-endian f64 files `DIR/<case>.re`, `DIR/<case>.im` (half grid, output
-//! order), which `tools/finufft_bench.py --ref-dir DIR` uses to measure
+//! order), which `nufft/tools/finufft_bench.py --ref-dir DIR` uses to measure
 //! FINUFFT's error on the same points.
 //!
 //! `--sigma auto` (default) is `Plan::new_for_points` (σ from the cost model
@@ -21,15 +21,15 @@
 //! median run), and the relative l2 error ‖F − F_exact‖₂/‖F_exact‖₂ and max
 //! |F − F_exact| / N against a separable direct DFT computed once per case.
 //! Points are uniform in [0,1)^D from SplitMix64 with seed 42 (the same stream
-//! `tools/finufft_bench.py` uses, so both time identical point sets).
+//! `nufft/tools/finufft_bench.py` uses, so both time identical point sets).
 
 use std::f64::consts::PI;
 use std::time::Instant;
 
-use linesample_lab::nufft::{Plan, Upsampling};
+use linesample_nufft::{Plan, Upsampling};
 
 /// SplitMix64 uniforms in [0,1): `(z >> 11) / 2^53` (mirrored in
-/// tools/finufft_bench.py).
+/// nufft/tools/finufft_bench.py).
 fn uniforms(seed: u64, count: usize) -> Vec<f64> {
     let mut s = seed;
     (0..count)

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# Side-by-side timing of linesample-lab's type-1 NUFFT and FINUFFT (Python
+# Side-by-side timing of linesample-nufft's type-1 NUFFT and FINUFFT (Python
 # wheel, single thread) on identical point sets, in one run.
 #
-#   tools/nufft_vs_finufft.sh [--runs R] [--tols 1e-6,1e-12] [--case 2d-65536,...]
+#   nufft/tools/nufft_vs_finufft.sh [--runs R] [--tols 1e-6,1e-12] [--case 2d-65536,...]
 #
 # Needs: cargo, python3 with numpy and finufft (pip install finufft).
 # Prints our table (with errors against the exact direct sum), FINUFFT's
@@ -12,7 +12,8 @@
 # Our σ is the automatic choice given the number of points
 # (Plan::new_for_points).
 set -euo pipefail
-cd "$(dirname "$0")/.."
+# Runs from the repository root (the workspace target directory is there).
+cd "$(dirname "$0")/../.."
 
 runs=9
 tols="1e-3,1e-4,1e-5,1e-6,1e-7,1e-8,1e-9,1e-10,1e-11,1e-12"
@@ -30,11 +31,11 @@ export OMP_NUM_THREADS=1
 tmp="$(mktemp -d)"
 trap 'rm -rf "$tmp"' EXIT
 
-cargo build --release -q -p linesample-lab --example nufft_bench
+cargo build --release -q -p linesample-nufft --example nufft_bench
 bin=target/release/examples/nufft_bench
 common=(--runs "$runs" --tols "$tols" --case "$cases")
 "$bin" "${common[@]}" --sigma auto --json --ref-dir "$tmp" > "$tmp/ours.jsonl"
-python3 tools/finufft_bench.py "${common[@]}" --json --ref-dir "$tmp" > "$tmp/finufft.jsonl"
+python3 nufft/tools/finufft_bench.py "${common[@]}" --json --ref-dir "$tmp" > "$tmp/finufft.jsonl"
 
 python3 - "$tmp/ours.jsonl" "$tmp/finufft.jsonl" <<'EOF'
 import json, sys

@@ -1,4 +1,4 @@
-//! Criterion benches of the type-1 NUFFT (`linesample_lab::nufft`).
+//! Criterion benches of the type-1 NUFFT (`linesample_nufft`).
 //!
 //! - `nufft/targets`: the cases (2D N = 65536, K = 128 i.e. a 257²
 //!   grid; 2D N = 4096, K = 319 i.e. 639²; 3D N = 4096, K = 32 i.e. 65³) at
@@ -7,11 +7,11 @@
 //! - `nufft/sweep_n`: 2D, K = 128, ε = 1e-6, N = 1024 … 262144.
 //! - `nufft/sweep_k`: 2D, N = 16384, ε = 1e-6, K = 16 … 512.
 //!
-//! `cargo bench -p linesample-lab --bench nufft`; the side-by-side comparison
-//! with FINUFFT is `tools/nufft_vs_finufft.sh`.
+//! `cargo bench -p linesample-nufft --bench nufft`; the side-by-side comparison
+//! with FINUFFT is `nufft/tools/nufft_vs_finufft.sh`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use linesample_lab::nufft::Plan;
+use linesample_nufft::Plan;
 
 /// SplitMix64 uniforms in [0,1) (same stream as the example and the Python
 /// FINUFFT script).
