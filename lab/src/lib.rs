@@ -1,11 +1,34 @@
-//! Library half of the `linesample-lab` experiment runner.
+//! The `linesample-lab` experiment runner, as a library: the binary
+//! (`src/main.rs`) only parses the command line and prints errors.
 //!
-//! The lab binary (`src/main.rs`) drives experiments on top of the no_std
-//! `linesample` kernel (and the `linesample-nufft` crate for the fast
-//! spectra); what the binary shares with the fuzz targets lives here.
+//! Data flows one way: command line ([`cli`]) → typed configuration →
+//! [`runner`] (cells on a thread pool, resumable state, shards, progress) →
+//! typed results ([`experiments`]) → files ([`io`], [`figures`]). Nothing
+//! below [`experiments`] knows about files; every number comes from the
+//! `linesample` kernel or the `linesample-nufft` crate.
 //!
+//! - [`cli`]: the subcommands and the option groups they share.
+//! - [`sampler`], [`integrand`]: registries turning options into kernel
+//!   patterns and integrands; [`with_dims!`] is the one const-generic
+//!   dimension dispatch.
+//! - [`runner`]: the one runner (parallel, resumable, shardable, with
+//!   progress).
+//! - [`experiments`]: `patterns`, `gallery`, `spectrum`, `convergence`, and
+//!   `merge`.
+//! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
+//! - [`figures`]: plots (`plotters`, SVG) and PNG images.
+//! - [`fit`]: weighted log-log fits.
 //! - [`pointfile`]: the parser of the plain-text point files that
 //!   `linesample-lab spectrum --input` reads (text in, points or an error
 //!   naming the line and column out).
 
+pub mod cli;
+mod dims;
+pub mod experiments;
+pub mod figures;
+pub mod fit;
+pub mod integrand;
+pub mod io;
 pub mod pointfile;
+pub mod runner;
+pub mod sampler;

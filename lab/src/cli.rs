@@ -1,0 +1,660 @@
+//! The command line: one `clap` definition per subcommand, built from shared
+//! option groups (`#[command(flatten)]`) so that every option that means the
+//! same thing in two commands is defined once.
+
+use std::path::PathBuf;
+
+use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
+use serde::{Deserialize, Serialize};
+
+use crate::experiments::{convergence, gallery, patterns, spectrum};
+use crate::integrand::IntegrandKind;
+use crate::runner::{RunOptions, Shard, MAX_THREADS};
+use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
+
+/// What every file-writing command says about its outputs.
+pub const ATOMIC: &str = "\
+Every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely named
+temporary files next to the targets and renamed into place only when all are
+complete; on any failure the temporaries are removed and existing files are left
+byte-for-byte unchanged. Errors print one line `error: <message>` on stderr and
+exit with a non-zero code.";
+
+/// What every runner command says about resuming, sharding and progress.
+pub const RUNNER: &str = "\
+Runs: the work is a list of cells (see the command's description). Every finished
+cell is written atomically to the state folder OUT.state/ next to the output (OUT
+is --out or --out-dir) with its accumulator state; rerunning the same command
+resumes, computing only the missing cells (--fresh starts over), so Ctrl-C or a
+kill loses at most the cells in flight. A different configuration in the same
+state folder is refused. --shard I/N computes only the cells c with c mod N = I-1
+and writes only its state; `linesample-lab merge --out OUT SHARD_OUT...` combines
+the N shards into exactly the files one unsharded run with --out OUT writes.
+Results never depend on --threads. A progress bar (cells, work done, rate, ETA) is
+drawn on stderr when it is a terminal, unless --quiet. OUT.json (gallery:
+OUT_DIR/manifest.json) records the command, the configuration, the seeds, the
+version, the thread count and the timings.";
+
+/// Experiment runner for the linesample kernel: writes sample patterns as point
+/// files and SVG plots, measures their power spectra, and measures how
+/// estimator variance converges with N.
+///
+/// Without a subcommand it runs `gallery` with its defaults.
+#[derive(Debug, Parser)]
+#[command(name = "linesample-lab", version, after_long_help = ATOMIC)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Write one pattern as PREFIX.txt (points) and PREFIX.svg (plot).
+    #[command(after_long_help = patterns::FORMATS)]
+    Patterns(PatternsArgs),
+    /// Write every sampler in 2D and 3D with its spectrum and an index (the
+    /// default command).
+    ///
+    /// Samplers random, jittered, n-rooks, sobol, halton, poisson-disk (maximal
+    /// dart throwing, relative radius 0.75) and ccvt in 2D and 3D, and
+    /// multi-jittered and cmj in 2D (they are 2D only), all with N = 1024 points
+    /// except jittered 3D, which uses N = 1000 = 10x10x10 strata. For each one it
+    /// writes `OUT_DIR/<sampler>-<dims>d-<N>.txt` and `.svg` (realisation 0), and
+    /// the mean periodogram of --spectrum-realizations realisations as
+    /// `OUT_DIR/<sampler>-<dims>d-<N>-spectrum.png`, `-spectrum-radial.csv` and
+    /// `-spectrum-radial.svg` (as `spectrum --method nufft --tol 1e-9` on the
+    /// default grid; the 3D image is the slice nu_z = 0). It prints a table
+    /// (sampler, dims, N, median time of --runs calls to Pattern::fill in
+    /// microseconds, which excludes formatting and file output; the mean <N*P>
+    /// over the low rings 1..round(sqrt(N)/4) and the high rings ceil(k/2)..k;
+    /// files) and writes the same rows to OUT_DIR/index.csv (file names relative
+    /// to OUT_DIR; spectrum = the spectrum files' prefix) under the header
+    /// sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum.
+    ///
+    /// Cells: one per pattern, run one after another so that the timings are
+    /// not disturbed (each pattern's spectrum uses every thread).
+    #[command(after_long_help = gallery::FORMATS)]
+    Gallery(GalleryArgs),
+    /// Measure how the variance of one estimator falls as N grows; write
+    /// PREFIX.csv (table) and PREFIX.svg (log-log plot).
+    ///
+    /// For each N in --n it runs R (--realisations) independent realisations of
+    /// one estimator of the integral of --integrand over the unit torus [0,1)^D:
+    /// the point, segment or line estimator (--primitive) with the pattern of
+    /// --sampler. For each N it reports the mean of the R estimates, the exact
+    /// integral (closed form), the bias z-score (mean - exact)/SE(mean), the
+    /// unbiased sample variance Var of the estimates, its standard error SE(Var)
+    /// (from the fourth central moment), Var*N and the time per realisation, then
+    /// fits the slope of log Var against log N over all N by weighted least
+    /// squares (weights (Var/SE(Var))^2, the inverse variance of log Var) and
+    /// prints it with its standard error.
+    ///
+    /// Homogenisation (--shift): by default every realisation adds its own
+    /// uniform random toroidal shift (drawn from the realisation seed) to the
+    /// pattern, so every estimator is unbiased and Var is the variance of the
+    /// homogenised (stationary) sampling process; --shift none uses the patterns
+    /// as generated (strata aligned to the domain), as tools and papers that do
+    /// not homogenise do.
+    ///
+    /// Cells: one per N. Inside a cell the realisations run in fixed chunks of
+    /// 32 on the worker threads, and the chunk statistics are merged in chunk
+    /// order, so the results and the CSV are bit-identical for any --threads.
+    #[command(after_long_help = convergence::FORMATS)]
+    Convergence(ConvergenceArgs),
+    /// Measure the mean periodogram <N*P(nu)> of a pattern, of segments or lines
+    /// through it, or of point sets read from files; write PREFIX.png (log-scale
+    /// image), PREFIX-radial.csv and PREFIX-radial.svg (radial average).
+    ///
+    /// For each of R realisations (--realizations; realisation r of a sampler
+    /// uses the points of `patterns --seed SEED --realization r`; with --input
+    /// each file is one realisation) it computes the Fourier amplitudes F(nu)
+    /// of the samples at every integer frequency of the grid [-k, k]^D, exactly
+    /// (--method direct, the default) or by a type-1 non-uniform FFT to relative
+    /// accuracy --tol (--method nufft, points and lines; about 20x faster for
+    /// N = 4096 on the 639x639 grid), and accumulates N*P(nu) = |F(nu)|^2/N, which is 1 for
+    /// white noise. It writes the mean over the realisations as an image, its
+    /// radial average over rings of unit width with the standard error of each
+    /// ring mean across the realisations, and prints a summary.
+    ///
+    /// Cells: blocks of ceil(R/8) consecutive realisations (at most 8 cells);
+    /// blocks run in parallel and are merged in realisation order, so every
+    /// output file is byte-identical for any --threads.
+    #[command(after_long_help = spectrum::FORMATS)]
+    Spectrum(SpectrumArgs),
+    /// Combine the state of the shards of a sharded run (`--shard I/N`) into
+    /// the files one unsharded run with --out OUT would write.
+    ///
+    /// Each SHARD is the --out (or --out-dir) the shard was run with; every
+    /// shard must have finished, and all must come from the same command (apart
+    /// from --shard and --threads). The cells are copied into OUT.state, so the
+    /// unsharded command with --out OUT afterwards finds every cell done.
+    ///
+    /// Slurm job array (one shard per task):
+    ///   sbatch --array=0-7 --wrap 'linesample-lab convergence ... --quiet
+    ///     --shard $((SLURM_ARRAY_TASK_ID+1))/$SLURM_ARRAY_TASK_COUNT
+    ///     --out runs/s$SLURM_ARRAY_TASK_ID'
+    ///   linesample-lab merge --out runs/all runs/s0 runs/s1 ... runs/s7
+    ///
+    /// GNU parallel (8 shards on the machines of --sshloginfile, or locally):
+    ///   parallel linesample-lab convergence ... --quiet --shard {}/8 --out runs/s{} ::: $(seq 8)
+    ///   linesample-lab merge --out runs/all runs/s{1..8}
+    #[command(after_long_help = ATOMIC)]
+    Merge(MergeArgs),
+}
+
+/// `--shift`: homogenisation by a random toroidal shift.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ShiftMode {
+    /// The pattern as generated.
+    None,
+    /// An independent uniform random toroidal shift per realisation.
+    Random,
+}
+
+/// `--shift [MODE]`, shared by `patterns` and the runner commands.
+#[derive(Clone, Debug, Args)]
+pub struct ShiftArgs {
+    /// Homogenisation: `random` (also `--shift` alone) adds an independent
+    /// uniform random toroidal shift (Cranley-Patterson rotation), drawn from
+    /// the realisation's seed, to every realisation; `none` uses the pattern as
+    /// generated. [default: random for convergence; none for patterns, gallery
+    /// and spectrum (a shift does not change a power spectrum |F|^2, so spectra
+    /// agree either way up to rounding)]
+    #[arg(
+        long,
+        value_enum,
+        value_name = "MODE",
+        num_args = 0..=1,
+        default_missing_value = "random"
+    )]
+    pub shift: Option<ShiftMode>,
+}
+
+/// Options of every runner command (`gallery`, `spectrum`, `convergence`).
+#[derive(Clone, Debug, Args)]
+pub struct RunArgs {
+    /// Seed of the run (how realisations derive their seeds is in the
+    /// command's description).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+
+    #[command(flatten)]
+    pub shift: ShiftArgs,
+
+    /// Worker threads, 1 to 1024 [default: the available parallelism]. The
+    /// results do not depend on it.
+    #[arg(long, value_name = "T", value_parser = clap::value_parser!(u64).range(1..=MAX_THREADS as u64))]
+    pub threads: Option<u64>,
+
+    /// No progress bar and no progress lines.
+    #[arg(long)]
+    pub quiet: bool,
+
+    /// Discard the cells in the state folder OUT.state and start over.
+    #[arg(long)]
+    pub fresh: bool,
+
+    /// Compute only shard I of N (cells c with c mod N = I-1) and write only
+    /// the state; combine the shards with `linesample-lab merge`.
+    #[arg(long, value_name = "I/N")]
+    pub shard: Option<Shard>,
+}
+
+impl RunArgs {
+    /// The runner options.
+    #[must_use]
+    pub fn options(&self) -> RunOptions {
+        RunOptions {
+            threads: self.threads.map(|t| t as usize),
+            quiet: self.quiet,
+            fresh: self.fresh,
+            shard: self.shard,
+        }
+    }
+
+    /// `--shift`, or `default` when not given.
+    #[must_use]
+    pub fn shift_or(&self, default: ShiftMode) -> ShiftMode {
+        self.shift.shift.unwrap_or(default)
+    }
+}
+
+/// Poisson-disk options.
+#[derive(Clone, Debug, Args)]
+pub struct PoissonArgs {
+    /// Poisson disk only: minimum distance as a fraction of the densest-packing
+    /// distance for N points (Lagae & Dutre 2008), in (0, 1].
+    #[arg(long, value_name = "R", default_value_t = DEFAULT_RELATIVE_RADIUS)]
+    pub relative_radius: f64,
+
+    /// Poisson disk only: use Bridson's algorithm instead of maximal dart
+    /// throwing (Bridson is faster but not maximal, and at --relative-radius
+    /// 0.75 usually fits fewer than N points, which is an error).
+    #[arg(long)]
+    pub bridson: bool,
+}
+
+/// One pattern of N points.
+#[derive(Clone, Debug, Args)]
+pub struct PatternArgs {
+    /// Sample pattern.
+    #[arg(long, value_enum)]
+    pub sampler: Option<Sampler>,
+
+    /// Number of points N (default: 1024, or the product of --strata / --grid
+    /// when those are given).
+    #[arg(short = 'n', value_name = "N")]
+    pub n: Option<usize>,
+
+    /// Jittered only: strata per axis, one count per dimension, comma-separated
+    /// (e.g. 32,32). Without it jittered uses a cubical grid (m^D = N), which
+    /// needs N to be a perfect square (2D) or cube (3D).
+    #[arg(long, value_name = "M1,M2,..", value_delimiter = ',')]
+    pub strata: Option<Vec<usize>>,
+
+    /// Multi-jittered and cmj only: grid of COLS x ROWS cells (N = COLS*ROWS),
+    /// e.g. 64x16. Without it the kernel picks the most square grid with
+    /// COLS*ROWS = N (COLS = the largest divisor of N not above its square root).
+    #[arg(long, value_name = "COLSxROWS", value_parser = parse_grid)]
+    pub grid: Option<(usize, usize)>,
+
+    #[command(flatten)]
+    pub poisson: PoissonArgs,
+}
+
+/// The sample primitive and its geometry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Primitive {
+    /// Points.
+    Points,
+    /// Segments of length --length centred at the points, wrapped on the torus.
+    Segments,
+    /// Lines through (spectrum) or offset by (convergence) the points.
+    Lines,
+}
+
+impl Primitive {
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Primitive::Points => "points",
+            Primitive::Segments => "segments",
+            Primitive::Lines => "lines",
+        }
+    }
+}
+
+/// `--primitive`, `--length`, `--direction`.
+#[derive(Clone, Debug, Args)]
+pub struct PrimitiveArgs {
+    /// Sample primitive. convergence: points (1/N) sum f(x_k); segments
+    /// (1/N) sum (1/L) int f along segment k; lines A (1/N) sum int f along
+    /// line k, offsets from a (D-1)-dimensional pattern on the plane orthogonal
+    /// to the direction (A = 1 for axis directions; other directions are clipped
+    /// to the unit box). spectrum: points; segments (the point spectrum times
+    /// sinc^2(L nu.omega)); lines along --axis (the (D-1)-dimensional spectrum of
+    /// their offsets).
+    #[arg(long, value_enum, default_value_t = Primitive::Points)]
+    pub primitive: Primitive,
+
+    /// Segments only: segment length L, from 0 (points) to 2^20; segments wrap
+    /// on the torus, so lengths above 1 are allowed [default: 0.1].
+    #[arg(long, value_name = "L", allow_hyphen_values = true)]
+    pub length: Option<f64>,
+
+    /// One fixed direction for every segment (and, in convergence, every line),
+    /// D comma-separated components (normalised) [default: convergence, the last
+    /// axis (0,1 in 2D, 0,0,1 in 3D); spectrum, the x axis (1,0 in 2D)].
+    #[arg(
+        long,
+        value_name = "X,Y[,Z]",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    pub direction: Option<Vec<f64>>,
+}
+
+/// Options of `linesample-lab patterns`.
+#[derive(Debug, Args)]
+#[command(mut_arg("sampler", |a| a.required(true)))]
+pub struct PatternsArgs {
+    #[command(flatten)]
+    pub pattern: PatternArgs,
+
+    /// Dimension of the points, 1 to 3 (multi-jittered and cmj: 2 only).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
+    pub dims: u8,
+
+    /// Seed of the run.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+
+    /// Realization index R: the points use Seed::new(SEED).realization(R).
+    #[arg(long, value_name = "R", default_value_t = 0)]
+    pub realization: u64,
+
+    #[command(flatten)]
+    pub shift: ShiftArgs,
+
+    /// Output path prefix; writes PREFIX.txt and PREFIX.svg, creating parent
+    /// directories (default: `out/patterns/<sampler>-<dims>d-<N>`).
+    #[arg(long, value_name = "PREFIX")]
+    pub out: Option<PathBuf>,
+}
+
+/// Options of `linesample-lab gallery`.
+#[derive(Clone, Debug, Args)]
+pub struct GalleryArgs {
+    /// Directory for the pattern files and index.csv.
+    #[arg(long, value_name = "DIR", default_value = "out/patterns")]
+    pub out_dir: PathBuf,
+
+    /// Timed fills per pattern; the table reports the median.
+    #[arg(long, default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub runs: u32,
+
+    /// Realisations R averaged into each pattern's spectrum (0: no spectra).
+    #[arg(
+        long,
+        value_name = "R",
+        default_value_t = 16,
+        visible_alias = "spectrum-realisations"
+    )]
+    pub spectrum_realizations: u64,
+
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// Options of `linesample-lab spectrum`.
+#[derive(Debug, Args)]
+#[command(
+    mut_arg("sampler", |a| a.required_unless_present("input")),
+    group(
+        ArgGroup::new("generated")
+            .multiple(true)
+            .args(["sampler", "dims", "n", "strata", "grid", "relative_radius", "bridson", "seed", "realizations"])
+            .conflicts_with("input")
+    )
+)]
+pub struct SpectrumArgs {
+    #[command(flatten)]
+    pub pattern: PatternArgs,
+
+    /// Dimension D of the points, 1 to 3 (multi-jittered and cmj: 2 only;
+    /// lines: 2 or 3) [default: 2]. With --input, D is the files' column count.
+    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=3))]
+    pub dims: Option<u8>,
+
+    #[command(flatten)]
+    pub primitive: PrimitiveArgs,
+
+    /// Lines only: the axis of the lines, 0 to D-1 [default: 0, the x axis].
+    #[arg(long, value_name = "A")]
+    pub axis: Option<usize>,
+
+    /// Half-width of the frequency grid [-k, k]^D' (D' = D, or D-1 for lines)
+    /// [default: the largest k with 2k+1 <= 10*sqrt(N), at most 65536 in 1D,
+    /// 1024 in 2D and 64 in 3D].
+    #[arg(long = "k", value_name = "K")]
+    pub k: Option<usize>,
+
+    /// Number of independent realisations R [default: 16].
+    #[arg(long, value_name = "R", visible_alias = "realisations")]
+    pub realizations: Option<u64>,
+
+    /// How the amplitudes are computed.
+    #[arg(long, value_enum, default_value_t = spectrum::Method::Direct)]
+    pub method: spectrum::Method,
+
+    /// NUFFT only: requested relative l2 accuracy of the amplitudes, in
+    /// [1e-14, 1e-1] (the accuracy/time knob: see `cargo run --release -p
+    /// linesample-nufft --example nufft_bench`) [default: 1e-9].
+    #[arg(long, value_name = "EPS")]
+    pub tol: Option<f64>,
+
+    /// Read the point sets from these files instead of a sampler, one
+    /// realisation per file (format below).
+    #[arg(long, value_name = "FILE", num_args = 1..)]
+    pub input: Vec<PathBuf>,
+
+    /// Output path prefix; writes PREFIX.png, PREFIX-radial.csv and
+    /// PREFIX-radial.svg, creating parent directories (default:
+    /// `out/spectrum/<sampler or first input's stem>-<D>d-<N>`, with
+    /// `-segments` or `-lines` appended for those primitives).
+    #[arg(long, value_name = "PREFIX")]
+    pub out: Option<PathBuf>,
+
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// `--integrand` and its parameters.
+#[derive(Clone, Debug, Args)]
+pub struct IntegrandArgs {
+    /// Integrand whose integral over the unit torus is estimated.
+    #[arg(long, value_enum, default_value_t = IntegrandKind::Disk)]
+    pub integrand: IntegrandKind,
+
+    /// Disk and ball: radius, in [1e-100, 1/2] [default: 0.25].
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub radius: Option<f64>,
+
+    /// Gaussian: standard deviation (the kernel accepts 1e-6 to 1e6) [default:
+    /// 0.1].
+    #[arg(long, value_name = "SIGMA", allow_hyphen_values = true)]
+    pub sigma: Option<f64>,
+
+    /// Edge: normal of the edge, D comma-separated components (normalised to unit
+    /// length) [default: 0.7,1 in 2D, 0.7,1,0.4 in 3D].
+    #[arg(
+        long,
+        value_name = "X,Y[,Z]",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    pub normal: Option<Vec<f64>>,
+
+    /// Edge: offset h of the edge n.x >= h along the unit normal [default: 0.6].
+    #[arg(long, value_name = "H", allow_hyphen_values = true)]
+    pub offset: Option<f64>,
+}
+
+/// Options of `linesample-lab convergence`.
+#[derive(Debug, Args)]
+#[command(
+    mut_arg("direction", |a| a.conflicts_with_all(["random_direction", "groups"])),
+)]
+pub struct ConvergenceArgs {
+    #[command(flatten)]
+    pub integrand: IntegrandArgs,
+
+    /// Dimension D of the domain, 2 or 3.
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(2..=3))]
+    pub dims: u8,
+
+    #[command(flatten)]
+    pub primitive: PrimitiveArgs,
+
+    /// Segments and lines: an independent uniformly random direction per
+    /// primitive.
+    #[arg(long, conflicts_with = "groups")]
+    pub random_direction: bool,
+
+    /// Segments and lines: K direction groups, each with its own independent
+    /// realisation of the pattern holding N/K primitives; the estimate is the
+    /// mean of the group estimates. 2D: the angles k*pi/K from the x axis,
+    /// k = 0..K-1. 3D: a Fibonacci spiral on the upper hemisphere starting at the
+    /// z axis, z_k = 1 - k/K, azimuth k*pi*(3 - sqrt 5).
+    #[arg(long, value_name = "K")]
+    pub groups: Option<usize>,
+
+    /// Pattern of the points, the segment centres, or the line offsets (lines use
+    /// a (D-1)-dimensional pattern). Poisson disk uses --relative-radius times the
+    /// densest-packing radius for N.
+    #[arg(long, value_enum, default_value_t = Sampler::Jittered)]
+    pub sampler: Sampler,
+
+    #[command(flatten)]
+    pub poisson: PoissonArgs,
+
+    /// Sample counts N (primitives per realisation, all groups together),
+    /// comma-separated. Jittered needs m^d' points per pattern (d' = D, or D-1
+    /// for lines): each N is rounded to the nearest such count, and a note says
+    /// so. With --groups K each N is rounded to a multiple of K.
+    #[arg(
+        short = 'n',
+        long = "n",
+        value_name = "N1,N2,..",
+        value_delimiter = ',',
+        default_values_t = convergence::DEFAULT_NS
+    )]
+    pub n: Vec<usize>,
+
+    /// Number of independent realisations R per N (at least 4).
+    #[arg(
+        long,
+        value_name = "R",
+        visible_alias = "realizations",
+        default_value_t = 1000
+    )]
+    pub realisations: u64,
+
+    /// Output path prefix; writes PREFIX.csv, PREFIX.svg and PREFIX.json,
+    /// creating parent directories (default:
+    /// `out/convergence/<integrand>-<dims>d-<primitive>-<sampler>`).
+    #[arg(long, value_name = "PREFIX")]
+    pub out: Option<PathBuf>,
+
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
+/// Options of `linesample-lab merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Where the merged outputs go: the --out (prefix, or directory for
+    /// gallery) an unsharded run would have used.
+    #[arg(long, value_name = "OUT")]
+    pub out: PathBuf,
+
+    /// The --out of every shard run.
+    #[arg(value_name = "SHARD", required = true, num_args = 1..)]
+    pub shards: Vec<PathBuf>,
+
+    /// No progress lines.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `COLSxROWS` → `(COLS, ROWS)`.
+///
+/// # Errors
+/// A message showing the expected form.
+pub fn parse_grid(s: &str) -> Result<(usize, usize), String> {
+    let bad = || format!("expected COLSxROWS with two positive integers, e.g. 32x32 (got '{s}')");
+    let (c, r) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let c = c.trim().parse().map_err(|_| bad())?;
+    let r = r.trim().parse().map_err(|_| bad())?;
+    Ok((c, r))
+}
+
+/// Runs the parsed command line.
+///
+/// # Errors
+/// The command's error message.
+pub fn dispatch(cli: Cli) -> Result<(), String> {
+    match cli.command {
+        Some(Command::Patterns(a)) => patterns::main(&a),
+        Some(Command::Gallery(a)) => gallery::main(&a),
+        Some(Command::Spectrum(a)) => spectrum::main(&a),
+        Some(Command::Convergence(a)) => convergence::main(&a),
+        Some(Command::Merge(a)) => crate::experiments::merge(&a),
+        None => gallery::main(&gallery::default_args()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    #[test]
+    fn cli_definition_is_consistent() {
+        Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn grid_parsing() {
+        assert_eq!(parse_grid("32x16"), Ok((32, 16)));
+        assert_eq!(parse_grid("4X4"), Ok((4, 4)));
+        assert!(parse_grid("32").is_err());
+        assert!(parse_grid("ax2").is_err());
+    }
+
+    #[test]
+    fn shared_options_parse_everywhere() {
+        let c = Cli::try_parse_from([
+            "lab",
+            "patterns",
+            "--sampler",
+            "random",
+            "--shift",
+            "--realization",
+            "3",
+        ])
+        .unwrap();
+        match c.command {
+            Some(Command::Patterns(a)) => {
+                assert_eq!(a.shift.shift, Some(ShiftMode::Random));
+                assert_eq!(a.realization, 3);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(
+            Cli::try_parse_from(["lab", "patterns"]).is_err(),
+            "--sampler is required"
+        );
+        assert!(
+            Cli::try_parse_from(["lab", "spectrum"]).is_err(),
+            "--sampler or --input"
+        );
+        assert!(
+            Cli::try_parse_from(["lab", "spectrum", "--input", "a", "--sampler", "random"])
+                .is_err()
+        );
+        assert!(Cli::try_parse_from(["lab", "spectrum", "--input", "a", "--seed", "3"]).is_err());
+        assert!(Cli::try_parse_from(["lab", "spectrum", "--input", "a"]).is_ok());
+        let c = Cli::try_parse_from([
+            "lab",
+            "convergence",
+            "--shift",
+            "none",
+            "--shard",
+            "2/3",
+            "--threads",
+            "2",
+        ])
+        .unwrap();
+        match c.command {
+            Some(Command::Convergence(a)) => {
+                let o = a.run.options();
+                assert_eq!(o.shard, Some(Shard { index: 2, count: 3 }));
+                assert_eq!(o.threads, Some(2));
+                assert_eq!(a.run.shift_or(ShiftMode::Random), ShiftMode::None);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert!(Cli::try_parse_from(["lab", "convergence", "--threads", "0"]).is_err());
+        assert!(Cli::try_parse_from(["lab", "convergence", "--threads", "1025"]).is_err());
+        assert!(
+            Cli::try_parse_from(["lab", "convergence", "--direction", "1,0", "--groups", "2"])
+                .is_err()
+        );
+        assert!(Cli::try_parse_from(["lab", "gallery", "--shard", "3/2"]).is_err());
+    }
+}

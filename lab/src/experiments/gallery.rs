@@ -1,0 +1,392 @@
+//! `gallery` (the default command): every sampler in 2D and 3D, drawn, timed
+//! and with its mean power spectrum. A cell is one pattern; cells run one
+//! after another so that each pattern's fill is timed alone (its spectrum then
+//! uses every thread).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use linesample::Seed;
+use serde::{Deserialize, Serialize};
+
+use crate::cli::{GalleryArgs, MergeArgs, RunArgs, ShiftArgs, ShiftMode};
+use crate::experiments::{config_from, file_name, patterns, spectrum, OutputManifest};
+use crate::io::{self, table, FileGroup};
+use crate::runner::{self, CellInfo, Ctx, Experiment, Outcome, RunInfo};
+use crate::sampler::{PatternSpec, Sampler};
+
+/// The experiment's name.
+pub const KIND: &str = "gallery";
+
+/// Header of the gallery's `index.csv`.
+pub const INDEX_HEADER: &str = "sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum";
+
+/// The `gallery` output formats (its `--help`).
+pub const FORMATS: &str = "\
+Output formats: the point files and plots as `patterns` writes them, the spectra
+as `spectrum` writes them (see their --help), OUT_DIR/index.csv as described
+above, and OUT_DIR/manifest.json (command, configuration, version, timings).
+
+Runs: one cell per pattern, kept in OUT_DIR.state/ (resume, --fresh, --shard,
+merge: see `linesample-lab --help`); a resumed gallery keeps the timings measured
+when each cell was computed. All files are written as one group at the end:
+uniquely named temporaries renamed into place only when all are complete, so on
+failure existing files stay unchanged. Errors print `error: <message>` on stderr
+and exit with a non-zero code.";
+
+/// One gallery entry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Entry {
+    pub sampler: Sampler,
+    pub dims: usize,
+    pub n: usize,
+}
+
+/// The gallery's patterns: every sampler in every dimension it supports out of
+/// 2 and 3, with N = 1024 (jittered 3D: 1000).
+#[must_use]
+pub fn entries() -> Vec<Entry> {
+    let mut v = Vec::new();
+    for sampler in Sampler::ALL {
+        for dims in [2, 3] {
+            if sampler.dims().contains(&dims) {
+                let n = if sampler == Sampler::Jittered && dims == 3 {
+                    1000
+                } else {
+                    1024
+                };
+                v.push(Entry { sampler, dims, n });
+            }
+        }
+    }
+    v
+}
+
+/// A gallery, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Config {
+    pub entries: Vec<Entry>,
+    pub seed: u64,
+    pub runs: u32,
+    pub spectrum_realizations: u64,
+    pub shift: ShiftMode,
+}
+
+impl Config {
+    fn spec(e: &Entry) -> PatternSpec {
+        PatternSpec::simple(e.sampler, e.dims, e.n)
+    }
+}
+
+/// One cell: a pattern's realisation 0, its fill time and its spectrum.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Cell {
+    /// Row-major coordinates.
+    pub coords: Vec<f32>,
+    pub dims: usize,
+    pub detail: Option<String>,
+    /// Median fill time, in nanoseconds.
+    pub median_ns: u64,
+    pub spectrum: Option<spectrum::Summary>,
+}
+
+/// The experiment.
+#[derive(Debug)]
+pub struct Gallery {
+    config: Config,
+    cells: Vec<CellInfo>,
+}
+
+impl Gallery {
+    /// The experiment of `config`.
+    #[must_use]
+    pub fn new(config: Config) -> Self {
+        let cells = config
+            .entries
+            .iter()
+            .map(|e| CellInfo {
+                label: format!("{} {}D", e.sampler, e.dims),
+                work: config.spectrum_realizations.max(1),
+            })
+            .collect();
+        Gallery { config, cells }
+    }
+}
+
+impl Experiment for Gallery {
+    type Config = Config;
+    type Cell = Cell;
+    const KIND: &'static str = KIND;
+    const UNIT: &'static str = "realisations";
+    const PARALLEL_CELLS: bool = false;
+
+    fn config(&self) -> &Config {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
+        let cfg = &self.config;
+        let e = cfg.entries[index];
+        let spec = Config::spec(&e);
+        let ctx_err = |what: &'static str| {
+            let (s, d) = (e.sampler, e.dims);
+            move |err: String| format!("gallery, {s} {d}D{what}: {err}")
+        };
+        let pts = patterns::generate(
+            &spec,
+            cfg.shift == ShiftMode::Random,
+            Seed::new(cfg.seed).realization(0),
+            cfg.runs as usize,
+        )
+        .map_err(ctx_err(""))?;
+        let spectrum = if cfg.spectrum_realizations > 0 {
+            let scfg = spectrum::Config::for_pattern(
+                &spec,
+                pts.len(),
+                cfg.spectrum_realizations,
+                cfg.seed,
+                cfg.shift,
+            );
+            let exp = spectrum::Spectrum::new(scfg, None).map_err(ctx_err(" spectrum"))?;
+            let cells = ctx
+                .map_ordered(exp.cells().len(), |c| exp.run_cell(c, ctx))
+                .map_err(ctx_err(" spectrum"))?;
+            Some(exp.summary(cells).map_err(ctx_err(" spectrum"))?)
+        } else {
+            ctx.advance(1);
+            None
+        };
+        Ok(Cell {
+            median_ns: u64::try_from(pts.median.as_nanos()).unwrap_or(u64::MAX),
+            coords: pts.coords,
+            dims: pts.dims,
+            detail: pts.detail,
+            spectrum,
+        })
+    }
+}
+
+/// An `index.csv` row.
+#[derive(Serialize)]
+struct IndexRow {
+    sampler: &'static str,
+    dims: usize,
+    n: usize,
+    seed: u64,
+    #[serde(serialize_with = "table::fixed1")]
+    median_us: f64,
+    txt: String,
+    svg: String,
+    #[serde(serialize_with = "table::opt_fixed4")]
+    np_low: Option<f64>,
+    #[serde(serialize_with = "table::opt_fixed4")]
+    np_high: Option<f64>,
+    spectrum: String,
+}
+
+fn stem(e: &Entry, n: usize) -> String {
+    patterns::default_stem(e.sampler, e.dims, n)
+}
+
+/// Writes every pattern's files, its spectrum files, `index.csv` and
+/// `manifest.json` into `dir` as one group, and prints the table (unless
+/// `quiet`).
+///
+/// # Errors
+/// A drawing or I/O error.
+pub fn complete(
+    exp: &Gallery,
+    cells: &[Cell],
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let cfg = &exp.config;
+    let shifted = cfg.shift == ShiftMode::Random;
+    let mut group = FileGroup::new();
+    let mut rows = Vec::with_capacity(cells.len());
+    let mut table_text = String::new();
+    let _ = writeln!(
+        table_text,
+        "{:<15} {:>4} {:>6} {:>12} {:>9} {:>9}  files",
+        "sampler", "dims", "N", "median µs", "NP low", "NP high"
+    );
+    let mut spectrum_ms = 0.0;
+    for (e, c) in cfg.entries.iter().zip(cells) {
+        let points = patterns::Points {
+            dims: c.dims,
+            coords: c.coords.clone(),
+            median: std::time::Duration::from_nanos(c.median_ns),
+            detail: c.detail.clone(),
+        };
+        let n = points.len();
+        let stem = stem(e, n);
+        let title = patterns::title(e.sampler, &points, cfg.seed, 0, shifted);
+        let (txt, svg) = patterns::stage(&mut group, &dir.join(&stem), &points, &title)?;
+        let us = c.median_ns as f64 / 1e3;
+        let spec_stem = format!("{stem}-spectrum");
+        if let Some(s) = &c.spectrum {
+            let scfg = spectrum::Config::for_pattern(
+                &Config::spec(e),
+                n,
+                cfg.spectrum_realizations,
+                cfg.seed,
+                cfg.shift,
+            );
+            let (t, sub) = spectrum::titles(&scfg);
+            spectrum::stage(&mut group, &dir.join(&spec_stem), s, &t, &sub)?;
+            spectrum_ms += s.ms * cfg.spectrum_realizations as f64;
+        }
+        let (low, high) = match &c.spectrum {
+            Some(s) => (Some(s.low), Some(s.high)),
+            None => (None, None),
+        };
+        let fmt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.4}"));
+        let _ = writeln!(
+            table_text,
+            "{:<15} {:>4} {:>6} {:>12.1} {:>9} {:>9}  {} {}{}",
+            e.sampler.name(),
+            e.dims,
+            n,
+            us,
+            fmt(low),
+            fmt(high),
+            txt.display(),
+            svg.display(),
+            if c.spectrum.is_some() {
+                format!(" {}.png", dir.join(&spec_stem).display())
+            } else {
+                String::new()
+            }
+        );
+        rows.push(IndexRow {
+            sampler: e.sampler.name(),
+            dims: e.dims,
+            n,
+            seed: cfg.seed,
+            median_us: us,
+            txt: file_name(&txt),
+            svg: file_name(&svg),
+            np_low: low,
+            np_high: high,
+            spectrum: if c.spectrum.is_some() {
+                spec_stem
+            } else {
+                String::new()
+            },
+        });
+    }
+    let index = dir.join("index.csv");
+    group.add_bytes(&index, &table::csv(&[], &rows)?)?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push("manifest.json".into());
+    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files);
+    group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
+    group.commit()?;
+    if !quiet {
+        print!("{table_text}");
+        if cfg.spectrum_realizations > 0 {
+            println!(
+                "spectra: {} realisations each, {:.2} s of pattern generation and NUFFT in all",
+                cfg.spectrum_realizations,
+                spectrum_ms / 1e3
+            );
+        }
+        println!("wrote {}", index.display());
+    }
+    Ok(())
+}
+
+fn reproduce(cfg: &Config) -> String {
+    format!(
+        "linesample-lab gallery --seed {} --runs {} --spectrum-realizations {}{}",
+        cfg.seed,
+        cfg.runs,
+        cfg.spectrum_realizations,
+        if cfg.shift == ShiftMode::Random {
+            " --shift random"
+        } else {
+            ""
+        }
+    )
+}
+
+/// The arguments of the default job (`linesample-lab` without a subcommand).
+#[must_use]
+pub fn default_args() -> GalleryArgs {
+    GalleryArgs {
+        out_dir: PathBuf::from("out/patterns"),
+        runs: 5,
+        spectrum_realizations: 16,
+        run: RunArgs {
+            seed: 1,
+            shift: ShiftArgs { shift: None },
+            threads: None,
+            quiet: false,
+            fresh: false,
+            shard: None,
+        },
+    }
+}
+
+/// `linesample-lab gallery`.
+///
+/// # Errors
+/// A message naming the pattern and what failed.
+pub fn main(a: &GalleryArgs) -> Result<(), String> {
+    let config = Config {
+        entries: entries(),
+        seed: a.run.seed,
+        runs: a.runs,
+        spectrum_realizations: a.spectrum_realizations,
+        shift: a.run.shift_or(ShiftMode::None),
+    };
+    let exp = Gallery::new(config);
+    let opts = a.run.options();
+    match runner::run(&exp, &a.out_dir, &opts)? {
+        Outcome::Complete(cells, info) => complete(&exp, &cells, &info, &a.out_dir, opts.quiet),
+        Outcome::Shard {
+            shard, done, total, ..
+        } => {
+            if !opts.quiet {
+                println!(
+                    "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
+                     combine them with `linesample-lab merge --out OUT_DIR SHARD_OUT_DIR...`",
+                    runner::state::state_path(&a.out_dir).display()
+                );
+            }
+            Ok(())
+        }
+    }
+}
+
+/// `linesample-lab merge` for gallery shards.
+///
+/// # Errors
+/// As [`runner::merge`].
+pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = Gallery::new(config_from(config, KIND)?);
+    let (cells, info) = runner::merge(&exp, &a.out, &a.shards)?;
+    complete(&exp, &cells, &info, &a.out, a.quiet)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn covers_every_sampler() {
+        let e = entries();
+        assert_eq!(e.len(), 16);
+        for s in Sampler::ALL {
+            assert!(e.iter().any(|t| t.sampler == s && t.dims == 2));
+        }
+        assert!(e
+            .iter()
+            .any(|t| t.sampler == Sampler::Jittered && t.dims == 3 && t.n == 1000));
+    }
+}

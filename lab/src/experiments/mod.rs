@@ -1,0 +1,123 @@
+//! The experiments: each takes a typed configuration, runs through the
+//! [`crate::runner`], and returns typed results; printing and files are
+//! separate functions that read those results.
+
+pub mod convergence;
+pub mod gallery;
+pub mod patterns;
+pub mod spectrum;
+
+use std::path::Path;
+
+use serde::Serialize;
+
+use crate::cli::MergeArgs;
+use crate::runner::{self, RunInfo};
+
+/// The record written next to every runner command's outputs.
+#[derive(Debug, Serialize)]
+pub struct OutputManifest<'a, C: Serialize> {
+    /// `linesample-lab`.
+    pub tool: &'static str,
+    /// The lab's version.
+    pub version: &'static str,
+    /// The experiment.
+    pub experiment: &'static str,
+    /// This invocation's command line.
+    pub command: String,
+    /// A command that recomputes the same results from scratch.
+    pub reproduce: String,
+    /// The configuration (parameters and seeds).
+    pub config: &'a C,
+    /// Worker threads of this invocation.
+    pub threads: usize,
+    /// Wall time of this invocation, in seconds.
+    pub wall_seconds: f64,
+    /// Cells computed by this invocation and found done in the state folder.
+    pub cells_computed: usize,
+    pub cells_resumed: usize,
+    /// Seconds each cell took when it was computed.
+    pub cell_seconds: &'a [f64],
+    /// The shard folders this output was merged from (empty unless merged).
+    pub merged_from: Vec<String>,
+    /// The output files, relative to the manifest's folder.
+    pub files: Vec<String>,
+}
+
+impl<'a, C: Serialize> OutputManifest<'a, C> {
+    /// A manifest for `experiment` from a finished run.
+    pub fn new(
+        experiment: &'static str,
+        reproduce: String,
+        config: &'a C,
+        info: &'a RunInfo,
+        files: Vec<String>,
+    ) -> Self {
+        OutputManifest {
+            tool: "linesample-lab",
+            version: env!("CARGO_PKG_VERSION"),
+            experiment,
+            command: runner::command_line(),
+            reproduce,
+            config,
+            threads: info.threads,
+            wall_seconds: info.wall.as_secs_f64(),
+            cells_computed: info.computed,
+            cells_resumed: info.resumed,
+            cell_seconds: &info.cell_seconds,
+            merged_from: info
+                .merged_from
+                .iter()
+                .map(|p| p.display().to_string())
+                .collect(),
+            files,
+        }
+    }
+}
+
+/// The file name of `path` (for manifests and indexes).
+#[must_use]
+pub fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned())
+}
+
+/// `linesample-lab merge`: reads the experiment from the first shard's
+/// manifest and lets that experiment merge.
+///
+/// # Errors
+/// As [`runner::merge`], or if the first shard has no readable manifest.
+pub fn merge(a: &MergeArgs) -> Result<(), String> {
+    let first = a.shards.first().ok_or("merge: give the shard folders")?;
+    let manifest = runner::read_manifest_json(first)?;
+    let kind = manifest
+        .get("experiment")
+        .and_then(|v| v.as_str())
+        .unwrap_or_default()
+        .to_string();
+    let config = manifest.get("config").cloned().unwrap_or_default();
+    match kind.as_str() {
+        convergence::KIND => convergence::merge(a, config),
+        spectrum::KIND => spectrum::merge(a, config),
+        gallery::KIND => gallery::merge(a, config),
+        other => Err(format!(
+            "{}: experiment '{other}' cannot be merged by this lab version",
+            first.display()
+        )),
+    }
+}
+
+/// Parses the stored configuration of a shard.
+///
+/// # Errors
+/// If it does not describe this experiment.
+pub fn config_from<C: serde::de::DeserializeOwned>(
+    v: serde_json::Value,
+    kind: &str,
+) -> Result<C, String> {
+    serde_json::from_value(v).map_err(|e| {
+        format!(
+            "the shards' manifest does not hold a {kind} configuration this lab version reads: {e}"
+        )
+    })
+}

@@ -1,0 +1,198 @@
+//! `patterns`: one realisation of one pattern, as a point file and a plot.
+
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use linesample::Seed;
+
+use crate::cli::{PatternsArgs, ShiftMode};
+use crate::figures;
+use crate::io::{self, FileGroup};
+use crate::sampler::{self, PatternSpec, Sampler};
+
+/// The `patterns` output formats (its `--help`).
+pub const FORMATS: &str = "\
+Output formats:
+  PREFIX.txt  one point per line, its D coordinates separated by single spaces,
+              each the shortest decimal that round-trips the f32 (e.g. 0.25 0.7312012);
+              every coordinate is in [0, 1). This is the point-file format the
+              UTK toolkit reads.
+  PREFIX.svg  scatter plot of the unit square (axes with tick labels, one <circle>
+              per point) under a title naming sampler, dimension, N, seed,
+              realization and shift. 1D: the points on the segment [0, 1]. 3D: the
+              projections xy, xz and yz side by side (3N circles). At most 65536
+              points are drawn per panel (the title says so); the .txt has all.
+
+Both files are written to uniquely named temporary files and renamed into place
+only when both are complete, so the pair is either complete or absent (existing
+files stay unchanged on failure). Errors print `error: <message>` on stderr and
+exit with a non-zero code.";
+
+/// One generated pattern realisation.
+#[derive(Clone, Debug)]
+pub struct Points {
+    /// Coordinates per point.
+    pub dims: usize,
+    /// Row-major coordinates.
+    pub coords: Vec<f32>,
+    /// Median wall time of one fill.
+    pub median: Duration,
+    /// What the plot title says about the parameters.
+    pub detail: Option<String>,
+}
+
+impl Points {
+    /// Number of points.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.coords.len() / self.dims.max(1)
+    }
+
+    /// `true` without points.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.coords.is_empty()
+    }
+}
+
+fn generate_dims<const D: usize>(
+    spec: &PatternSpec,
+    shift: bool,
+    seed: Seed,
+    runs: usize,
+) -> Result<Points, String> {
+    let built = sampler::build::<D>(spec, shift)?;
+    let (pts, median) = sampler::generate(built.pattern.as_ref(), seed, runs)?;
+    Ok(Points {
+        dims: D,
+        coords: pts.into_flattened(),
+        median,
+        detail: built.detail,
+    })
+}
+
+/// Generates realisation `seed` of the pattern `spec` (with the toroidal shift
+/// of `Pattern::shifted` when `shift`), filling it `runs` times for the median
+/// time.
+///
+/// # Errors
+/// A message naming the offending parameter, or a failed allocation.
+pub fn generate(
+    spec: &PatternSpec,
+    shift: bool,
+    seed: Seed,
+    runs: usize,
+) -> Result<Points, String> {
+    match spec.dims {
+        1 => generate_dims::<1>(spec, shift, seed, runs),
+        2 => generate_dims::<2>(spec, shift, seed, runs),
+        3 => generate_dims::<3>(spec, shift, seed, runs),
+        d => Err(format!("--dims {d}: expected 1, 2 or 3")),
+    }
+}
+
+/// Streams the point file: one point per line, shortest round-trip `f32`s.
+///
+/// # Errors
+/// Those of the writer.
+pub fn write_txt(points: &Points, w: &mut dyn Write) -> std::io::Result<()> {
+    for p in points.coords.chunks_exact(points.dims) {
+        for (j, x) in p.iter().enumerate() {
+            if j > 0 {
+                w.write_all(b" ")?;
+            }
+            write!(w, "{x}")?;
+        }
+        w.write_all(b"\n")?;
+    }
+    Ok(())
+}
+
+/// The plot title: `sampler, dD, N = n, seed s, realization r, shift on|off[, detail]`.
+#[must_use]
+pub fn title(
+    sampler: Sampler,
+    points: &Points,
+    seed: u64,
+    realization: u64,
+    shift: bool,
+) -> String {
+    format!(
+        "{sampler}, {}D, N = {}, seed {seed}, realization {realization}, shift {}{}",
+        points.dims,
+        points.len(),
+        if shift { "on" } else { "off" },
+        points
+            .detail
+            .as_ref()
+            .map(|d| format!(", {d}"))
+            .unwrap_or_default()
+    )
+}
+
+/// Stages `PREFIX.txt` and `PREFIX.svg` of `points` in `group`.
+///
+/// # Errors
+/// A drawing or I/O error.
+pub fn stage(
+    group: &mut FileGroup,
+    prefix: &Path,
+    points: &Points,
+    title: &str,
+) -> Result<(PathBuf, PathBuf), String> {
+    let (txt, svg) = (io::suffixed(prefix, ".txt"), io::suffixed(prefix, ".svg"));
+    group.add(&txt, |w| write_txt(points, w))?;
+    let plot = figures::scatter(&points.coords, points.dims, title)?;
+    group.add_bytes(&svg, plot.as_bytes())?;
+    Ok((txt, svg))
+}
+
+/// `<sampler>-<dims>d-<n>`.
+#[must_use]
+pub fn default_stem(sampler: Sampler, dims: usize, n: usize) -> String {
+    format!("{sampler}-{dims}d-{n}")
+}
+
+/// `linesample-lab patterns`.
+///
+/// # Errors
+/// A message naming the offending parameter or file.
+pub fn main(a: &PatternsArgs) -> Result<(), String> {
+    let p = &a.pattern;
+    let sampler = p.sampler.ok_or("--sampler is required")?;
+    let spec = PatternSpec {
+        sampler,
+        dims: usize::from(a.dims),
+        n: p.n,
+        strata: p.strata.clone(),
+        grid: p.grid,
+        relative_radius: p.poisson.relative_radius,
+        bridson: p.poisson.bridson,
+    };
+    let shift = a.shift.shift == Some(ShiftMode::Random);
+    if let Some(out) = &a.out {
+        io::check_prefix("--out", out, "out/pts")?;
+    }
+    let points = generate(
+        &spec,
+        shift,
+        Seed::new(a.seed).realization(a.realization),
+        1,
+    )?;
+    let prefix = match &a.out {
+        Some(p) => p.clone(),
+        None => Path::new("out/patterns").join(default_stem(sampler, spec.dims, points.len())),
+    };
+    let mut group = FileGroup::new();
+    let t = title(sampler, &points, a.seed, a.realization, shift);
+    let (txt, svg) = stage(&mut group, &prefix, &points, &t)?;
+    group.commit()?;
+    println!(
+        "wrote {} and {} ({} points)",
+        txt.display(),
+        svg.display(),
+        points.len()
+    );
+    Ok(())
+}

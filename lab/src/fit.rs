@@ -1,0 +1,92 @@
+//! Weighted least-squares fits of measured power laws.
+
+use serde::{Deserialize, Serialize};
+
+/// Weighted least-squares fit of `ln y = a + b ln x`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fit {
+    pub slope: f64,
+    pub slope_se: f64,
+    /// `a` (natural logarithms).
+    pub intercept: f64,
+    /// `χ²/(m − 2)` for `m` points (NaN for `m = 2`).
+    pub chi2_dof: f64,
+    pub points: usize,
+}
+
+/// Fits `ln y = a + b ln x` by weighted least squares with weights
+/// `w = (y/err)²`, the inverse variance of `ln y` by the delta method. Points
+/// with `y ≤ 0`, a non-finite or non-positive `err`, or `x ≤ 0` are left out.
+/// `slope_se = 1/√(Σ w (ln x − x̄)²)` uses the weights as known variances (it is
+/// not rescaled by `χ²`). `None` with fewer than two usable points or a single
+/// distinct `x`.
+#[must_use]
+pub fn fit_loglog(data: &[(f64, f64, f64)]) -> Option<Fit> {
+    let pts: Vec<(f64, f64, f64)> = data
+        .iter()
+        .filter(|(x, y, e)| *x > 0.0 && *y > 0.0 && e.is_finite() && *e > 0.0 && y.is_finite())
+        .map(|&(x, y, e)| (x.ln(), y.ln(), (y / e) * (y / e)))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let sw: f64 = pts.iter().map(|p| p.2).sum();
+    let xm = pts.iter().map(|p| p.2 * p.0).sum::<f64>() / sw;
+    let ym = pts.iter().map(|p| p.2 * p.1).sum::<f64>() / sw;
+    let sxx: f64 = pts.iter().map(|p| p.2 * (p.0 - xm) * (p.0 - xm)).sum();
+    let sxy: f64 = pts.iter().map(|p| p.2 * (p.0 - xm) * (p.1 - ym)).sum();
+    if sxx <= 0.0 || !sxx.is_finite() {
+        return None;
+    }
+    let slope = sxy / sxx;
+    let intercept = ym - slope * xm;
+    let chi2: f64 = pts
+        .iter()
+        .map(|p| {
+            let r = p.1 - intercept - slope * p.0;
+            p.2 * r * r
+        })
+        .sum();
+    let dof = pts.len() - 2;
+    Some(Fit {
+        slope,
+        slope_se: 1.0 / sxx.sqrt(),
+        intercept,
+        chi2_dof: if dof > 0 { chi2 / dof as f64 } else { f64::NAN },
+        points: pts.len(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fit_recovers_a_power_law() {
+        let data: Vec<(f64, f64, f64)> = [16.0, 64.0, 256.0, 1024.0]
+            .iter()
+            .map(|&n: &f64| (n, 3.0 * n.powf(-1.5), 0.1 * 3.0 * n.powf(-1.5)))
+            .collect();
+        let f = fit_loglog(&data).unwrap();
+        assert!((f.slope + 1.5).abs() < 1e-12, "{f:?}");
+        assert!((f.intercept - 3f64.ln()).abs() < 1e-12);
+        assert!(f.chi2_dof < 1e-20);
+        // σ(ln y) = 0.1 for all points: SE = 0.1/√Σ(ln x − x̄)².
+        let xs: Vec<f64> = data.iter().map(|d| d.0.ln()).collect();
+        let m = xs.iter().sum::<f64>() / 4.0;
+        let sxx: f64 = xs.iter().map(|x| (x - m) * (x - m)).sum();
+        assert!((f.slope_se - 0.1 / sxx.sqrt()).abs() < 1e-12);
+        // Unusable points are skipped.
+        assert!(fit_loglog(&[(16.0, 1.0, 0.1), (64.0, 0.0, 0.1)]).is_none());
+        assert_eq!(
+            fit_loglog(&[
+                (16.0, 1.0, 0.1),
+                (64.0, 0.5, 0.1),
+                (256.0, 0.2, f64::INFINITY)
+            ])
+            .unwrap()
+            .points,
+            2
+        );
+    }
+}

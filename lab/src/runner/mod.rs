@@ -1,0 +1,481 @@
+//! The one runner every experiment uses.
+//!
+//! An experiment is a list of **cells** (e.g. one N of a convergence curve, a
+//! block of spectrum realisations, one gallery pattern). The runner
+//!
+//! * runs the cells on a `rayon` pool of `--threads` threads (cells at the same
+//!   time unless the experiment asks for them one after another); inside a
+//!   cell, [`Ctx::map_ordered`] runs fixed chunks of realisations on the same
+//!   pool and returns them in chunk order, so a cell merges its chunk
+//!   statistics in a fixed order and its result does not depend on the thread
+//!   count;
+//! * writes every finished cell atomically into the state folder
+//!   `OUT.state/` ([`state`]) with its accumulator state, and on a rerun of the
+//!   same command skips the cells already there (`--fresh` starts over; a
+//!   different configuration is refused): Ctrl-C or a kill loses at most the
+//!   cells in flight;
+//! * with `--shard i/n` computes only the cells `c` with `c mod n = i − 1`;
+//!   [`merge`] later gathers the shards' cells into one complete state, from
+//!   which the experiment writes exactly the files an unsharded run writes
+//!   (cells are merged in cell order in both cases);
+//! * shows progress on stderr ([`progress`]).
+
+pub mod progress;
+pub mod shard;
+pub mod state;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use serde::de::DeserializeOwned;
+use serde::Serialize;
+
+pub use progress::Progress;
+pub use shard::Shard;
+pub use state::{Manifest, StateDir, Stored};
+
+/// Largest `--threads`.
+pub const MAX_THREADS: usize = 1024;
+
+/// How to run: the options every runner command shares.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Worker threads (default: the available parallelism).
+    pub threads: Option<usize>,
+    /// No progress bar and no progress lines.
+    pub quiet: bool,
+    /// Discard the state folder's cells and start over.
+    pub fresh: bool,
+    /// Compute only this shard's cells.
+    pub shard: Option<Shard>,
+}
+
+/// What the progress bar and the manifest say about a cell.
+#[derive(Clone, Debug)]
+pub struct CellInfo {
+    /// E.g. `N = 1024`.
+    pub label: String,
+    /// Work units the cell does (for progress).
+    pub work: u64,
+}
+
+/// An experiment the runner can run, resume, shard and merge.
+pub trait Experiment: Sync {
+    /// The configuration stored in the state manifest; a rerun must match it.
+    type Config: Serialize + DeserializeOwned + Clone;
+    /// One cell's state, stored in its cell file (enough to merge).
+    type Cell: Serialize + DeserializeOwned + Send;
+    /// Name of the experiment (its subcommand).
+    const KIND: &'static str;
+    /// What a unit of [`CellInfo::work`] is, e.g. `realisations`.
+    const UNIT: &'static str;
+    /// Whether cells may run at the same time. `false` runs them one after
+    /// another (each may still use the whole pool inside), e.g. so that
+    /// timings inside a cell are not disturbed by other cells.
+    const PARALLEL_CELLS: bool = true;
+
+    /// The configuration.
+    fn config(&self) -> &Self::Config;
+    /// The cells, in order.
+    fn cells(&self) -> &[CellInfo];
+    /// Computes cell `index`.
+    ///
+    /// # Errors
+    /// A message naming the cell's parameters.
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Self::Cell, String>;
+}
+
+/// What a cell may use while it runs.
+#[derive(Debug)]
+pub struct Ctx<'a> {
+    progress: &'a Progress,
+}
+
+impl Ctx<'_> {
+    /// Reports `work` units done.
+    pub fn advance(&self, work: u64) {
+        self.progress.advance(work);
+    }
+
+    /// Runs `f(0) … f(count − 1)` on the pool and returns the results in index
+    /// order (the first error, if any).
+    ///
+    /// # Errors
+    /// The first error of `f`.
+    pub fn map_ordered<T: Send>(
+        &self,
+        count: usize,
+        f: impl Fn(usize) -> Result<T, String> + Sync + Send,
+    ) -> Result<Vec<T>, String> {
+        (0..count).into_par_iter().map(f).collect()
+    }
+}
+
+/// How a run went.
+#[derive(Clone, Debug)]
+pub struct RunInfo {
+    /// Worker threads used.
+    pub threads: usize,
+    /// Wall time of this invocation.
+    pub wall: Duration,
+    /// Cells computed now.
+    pub computed: usize,
+    /// Cells found in the state folder.
+    pub resumed: usize,
+    /// Seconds each cell took when it was computed (index order).
+    pub cell_seconds: Vec<f64>,
+    /// The shard folders a merge read.
+    pub merged_from: Vec<PathBuf>,
+}
+
+/// The result of [`run`].
+#[derive(Debug)]
+pub enum Outcome<C> {
+    /// Every cell, in order.
+    Complete(Vec<C>, RunInfo),
+    /// A shard finished its cells; the rest belongs to other shards.
+    Shard {
+        /// The shard.
+        shard: Shard,
+        /// Cells this shard holds.
+        done: usize,
+        /// Cells of the whole run.
+        total: usize,
+        /// How it went.
+        info: RunInfo,
+    },
+}
+
+/// The worker pool for `threads` (default: the available parallelism).
+///
+/// # Errors
+/// If `threads` is 0 or above [`MAX_THREADS`], or the threads cannot start.
+pub fn pool(threads: Option<usize>) -> Result<(rayon::ThreadPool, usize), String> {
+    let t = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
+    if t == 0 || t > MAX_THREADS {
+        return Err(format!("--threads {t}: expected 1 to {MAX_THREADS}"));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(t)
+        .thread_name(|i| format!("linesample-lab-{i}"))
+        .build()
+        .map_err(|e| format!("--threads {t}: cannot start the worker threads: {e}"))?;
+    Ok((pool, t))
+}
+
+/// The command line of this process, for manifests.
+#[must_use]
+pub fn command_line() -> String {
+    let mut args = std::env::args();
+    let mut s = String::from("linesample-lab");
+    args.next();
+    for a in args {
+        s.push(' ');
+        if a.is_empty() || a.contains(|c: char| c.is_whitespace() || "'\"$`\\".contains(c)) {
+            s.push('\'');
+            s.push_str(&a.replace('\'', r"'\''"));
+            s.push('\'');
+        } else {
+            s.push_str(&a);
+        }
+    }
+    s
+}
+
+/// Runs (or resumes) `exp` with its state in `OUT.state` (see the module
+/// docs). Prints one line on stdout when it resumes or when a shard is done
+/// (unless `quiet`).
+///
+/// # Errors
+/// A changed configuration in the state folder, a locked folder, an I/O
+/// error, or the first error of a cell.
+pub fn run<E: Experiment>(
+    exp: &E,
+    out: &Path,
+    opts: &RunOptions,
+) -> Result<Outcome<E::Cell>, String> {
+    let start = Instant::now();
+    let (pool, threads) = pool(opts.threads)?;
+    let cells = exp.cells();
+    let total = cells.len();
+    let mine: Vec<usize> = (0..total)
+        .filter(|&c| opts.shard.is_none_or(|s| s.owns(c)))
+        .collect();
+    let dir = StateDir::open(out)?;
+    if opts.fresh {
+        dir.clear()?;
+    }
+    let manifest = Manifest::new(
+        E::KIND,
+        total,
+        opts.shard,
+        command_line(),
+        exp.config().clone(),
+    );
+    match dir.read_manifest()? {
+        Some(stored) => state::check_manifest(&stored, &manifest, dir.path())?,
+        None => {
+            if !dir.cell_indices()?.is_empty() {
+                return Err(format!(
+                    "{} holds cells but no manifest; use --fresh to start over",
+                    dir.path().display()
+                ));
+            }
+            dir.write_manifest(&manifest)?;
+        }
+    }
+    let mut have: BTreeMap<usize, Stored<E::Cell>> = BTreeMap::new();
+    for i in dir.cell_indices()? {
+        if !mine.contains(&i) {
+            return Err(format!(
+                "{}: cell {i} does not belong to this run; use --fresh to start over",
+                dir.cell_path(i).display()
+            ));
+        }
+        match dir.read_cell(i) {
+            Ok(stored) => {
+                have.insert(i, stored);
+            }
+            // A damaged cell (e.g. after a power loss) is computed again.
+            Err(e) => {
+                if !opts.quiet {
+                    eprintln!("note: {e}: computing it again");
+                }
+            }
+        }
+    }
+    let resumed = have.len();
+    let todo: Vec<usize> = mine
+        .iter()
+        .copied()
+        .filter(|i| !have.contains_key(i))
+        .collect();
+    if resumed > 0 && !opts.quiet {
+        println!(
+            "resuming from {}: {resumed} of {} cell(s) already done, computing {}",
+            dir.path().display(),
+            mine.len(),
+            todo.len()
+        );
+    }
+    let work: u64 = todo.iter().map(|&i| cells[i].work).sum();
+    let progress = Progress::new(work, E::UNIT, mine.len(), resumed, !opts.quiet);
+    let one = |i: usize| -> Result<Stored<E::Cell>, String> {
+        let t = Instant::now();
+        let cell = exp.run_cell(
+            i,
+            &Ctx {
+                progress: &progress,
+            },
+        )?;
+        let stored = Stored {
+            index: i as u64,
+            seconds: t.elapsed().as_secs_f64(),
+            cell,
+        };
+        dir.write_cell(&stored)?;
+        progress.cell_done();
+        Ok(stored)
+    };
+    let computed: Result<Vec<Stored<E::Cell>>, String> = pool.install(|| {
+        if E::PARALLEL_CELLS {
+            todo.par_iter().map(|&i| one(i)).collect()
+        } else {
+            todo.iter().map(|&i| one(i)).collect()
+        }
+    });
+    progress.finish();
+    let computed = match computed {
+        Ok(c) => c,
+        Err(e) => {
+            // A first run that failed before any cell leaves no state behind,
+            // so that a corrected command is not refused as a "different run".
+            if resumed == 0 && dir.cell_indices().is_ok_and(|v| v.is_empty()) {
+                dir.remove();
+            }
+            return Err(e);
+        }
+    };
+    let n_computed = computed.len();
+    for s in computed {
+        have.insert(s.index as usize, s);
+    }
+    let info = RunInfo {
+        threads,
+        wall: start.elapsed(),
+        computed: n_computed,
+        resumed,
+        cell_seconds: have.values().map(|s| s.seconds).collect(),
+        merged_from: Vec::new(),
+    };
+    match opts.shard {
+        Some(shard) => Ok(Outcome::Shard {
+            shard,
+            done: have.len(),
+            total,
+            info,
+        }),
+        None => Ok(Outcome::Complete(
+            have.into_values().map(|s| s.cell).collect(),
+            info,
+        )),
+    }
+}
+
+/// Reads the manifest of the state folder of `out` without locking it.
+///
+/// # Errors
+/// If there is no readable manifest.
+pub fn read_manifest_json(out: &Path) -> Result<serde_json::Value, String> {
+    let p = state::state_path(out).join("manifest.json");
+    let bytes = std::fs::read(&p).map_err(|e| {
+        format!(
+            "{}: cannot read {} ({e}); is it the --out of a sharded run?",
+            out.display(),
+            p.display()
+        )
+    })?;
+    serde_json::from_slice(&bytes).map_err(|e| format!("{}: not a manifest: {e}", p.display()))
+}
+
+/// Gathers the cells of the shard runs whose `--out` were `shards` into a
+/// complete state folder for `out` and returns them in order.
+///
+/// Every shard must have been run with the same experiment, configuration
+/// and shard count, and hold all of its cells; each cell must come from the
+/// one shard that owns it.
+///
+/// # Errors
+/// A message naming the shard and what is wrong (different configuration,
+/// shard given twice, missing cells and which shard must be rerun).
+pub fn merge<E: Experiment>(
+    exp: &E,
+    out: &Path,
+    shards: &[PathBuf],
+) -> Result<(Vec<E::Cell>, RunInfo), String> {
+    let start = Instant::now();
+    let total = exp.cells().len();
+    let mut seen: Vec<Shard> = Vec::new();
+    let mut bytes: BTreeMap<usize, (Vec<u8>, f64)> = BTreeMap::new();
+    let mut count = None;
+    for path in shards {
+        let stored = read_manifest_json(path)?;
+        let shard: Shard = stored
+            .get("shard")
+            .cloned()
+            .and_then(|v| serde_json::from_value::<Option<Shard>>(v).ok())
+            .flatten()
+            .ok_or_else(|| {
+                format!(
+                    "{}: not a sharded run (it was run without --shard)",
+                    path.display()
+                )
+            })?;
+        let expected = Manifest::new(
+            E::KIND,
+            total,
+            Some(shard),
+            String::new(),
+            exp.config().clone(),
+        );
+        state::check_manifest(&stored, &expected, &state::state_path(path))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        if *count.get_or_insert(shard.count) != shard.count {
+            return Err(format!(
+                "{}: shard {shard}, but the first shard was one of {}",
+                path.display(),
+                count.unwrap_or(0)
+            ));
+        }
+        if seen.contains(&shard) {
+            return Err(format!("{}: shard {shard} is given twice", path.display()));
+        }
+        seen.push(shard);
+        let dir = state::state_path(path);
+        for i in (0..total).filter(|&c| shard.owns(c)) {
+            let p = dir.join("cells").join(format!("{i:06}.bin"));
+            let b = match std::fs::read(&p) {
+                Ok(b) => b,
+                Err(_) => {
+                    return Err(format!(
+                        "{}: shard {shard} has not finished cell {i} ({}); rerun that shard's \
+                         command to complete it",
+                        path.display(),
+                        exp.cells()[i].label
+                    ))
+                }
+            };
+            let s: Stored<E::Cell> = state::decode_cell(&b, &p, i).map_err(|e| {
+                format!("{e}; rerun shard {shard} (it recomputes the cell) and merge again")
+            })?;
+            bytes.insert(i, (b, s.seconds));
+        }
+    }
+    let n = count.unwrap_or(0);
+    let missing: Vec<String> = (1..=n)
+        .filter(|&i| !seen.iter().any(|s| s.index == i))
+        .map(|i| format!("{i}/{n}"))
+        .collect();
+    if !missing.is_empty() || shards.is_empty() {
+        return Err(format!(
+            "merge needs every shard of the run; missing: {}",
+            if missing.is_empty() {
+                "all".to_string()
+            } else {
+                missing.join(", ")
+            }
+        ));
+    }
+    let dir = StateDir::open(out)?;
+    let manifest = Manifest::new(E::KIND, total, None, command_line(), exp.config().clone());
+    match dir.read_manifest()? {
+        Some(stored) => state::check_manifest(&stored, &manifest, dir.path())?,
+        None => dir.write_manifest(&manifest)?,
+    }
+    let mut cells = Vec::with_capacity(total);
+    let mut seconds = Vec::with_capacity(total);
+    for (i, (b, s)) in bytes {
+        dir.write_cell_bytes(i, &b)?;
+        let stored: Stored<E::Cell> = state::decode_cell(&b, &dir.cell_path(i), i)?;
+        cells.push(stored.cell);
+        seconds.push(s);
+    }
+    Ok((
+        cells,
+        RunInfo {
+            threads: 1,
+            wall: start.elapsed(),
+            computed: 0,
+            resumed: total,
+            cell_seconds: seconds,
+            merged_from: shards.to_vec(),
+        },
+    ))
+}
+
+/// Computes every cell of `exp` in memory on `threads` threads (no state
+/// folder, no progress): for callers that compose results themselves, and for
+/// tests. The cells are the same as [`run`] computes.
+///
+/// # Errors
+/// A bad thread count or the first error of a cell.
+pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::Cell>, String> {
+    let (pool, _) = pool(threads)?;
+    let progress = Progress::new(0, E::UNIT, exp.cells().len(), 0, false);
+    let ctx = Ctx {
+        progress: &progress,
+    };
+    let n = exp.cells().len();
+    pool.install(|| {
+        if E::PARALLEL_CELLS {
+            (0..n)
+                .into_par_iter()
+                .map(|i| exp.run_cell(i, &ctx))
+                .collect()
+        } else {
+            (0..n).map(|i| exp.run_cell(i, &ctx)).collect()
+        }
+    })
+}
