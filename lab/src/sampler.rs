@@ -156,6 +156,17 @@ fn as_dims<const D: usize>(p: DynPattern<2>) -> Option<DynPattern<D>> {
     any.downcast::<DynPattern<D>>().ok().map(|b| *b)
 }
 
+/// A pattern without parameters worth a title.
+fn plain<const D: usize>(
+    p: Result<DynPattern<D>, PatternError>,
+    err: &impl Fn(PatternError) -> String,
+) -> Result<Built<D>, String> {
+    Ok(Built {
+        pattern: p.map_err(err)?,
+        detail: None,
+    })
+}
+
 /// Prefixes a kernel error with what was being built.
 fn kernel(spec: &PatternSpec, n: usize) -> impl Fn(PatternError) -> String + '_ {
     move |e| {
@@ -212,22 +223,10 @@ pub fn build<const D: usize>(spec: &PatternSpec, shift: bool) -> Result<Built<D>
     let n = spec.n.unwrap_or(DEFAULT_N);
     let err = kernel(spec, n);
     let built = match s {
-        Sampler::Random => Built {
-            pattern: boxed(Random::<D>::new(n).map_err(err)?, shift),
-            detail: None,
-        },
-        Sampler::NRooks => Built {
-            pattern: boxed(NRooks::<D>::new(n).map_err(err)?, shift),
-            detail: None,
-        },
-        Sampler::Sobol => Built {
-            pattern: boxed(Sobol::<D>::new(n).map_err(err)?, shift),
-            detail: None,
-        },
-        Sampler::Halton => Built {
-            pattern: boxed(Halton::<D>::new(n).map_err(err)?, shift),
-            detail: None,
-        },
+        Sampler::Random => plain(Random::<D>::new(n).map(|p| boxed(p, shift)), &err)?,
+        Sampler::NRooks => plain(NRooks::<D>::new(n).map(|p| boxed(p, shift)), &err)?,
+        Sampler::Sobol => plain(Sobol::<D>::new(n).map(|p| boxed(p, shift)), &err)?,
+        Sampler::Halton => plain(Halton::<D>::new(n).map(|p| boxed(p, shift)), &err)?,
         Sampler::Ccvt => Built {
             pattern: boxed(Ccvt::<D>::new(n).map_err(err)?, shift),
             detail: Some("capacity 64".into()),

@@ -84,8 +84,8 @@ fn two_shard_processes_merge_to_the_single_run() {
     ok(&o, "merge");
     for ext in ["csv", "svg"] {
         assert_eq!(
-            fs::read(dir.path().join(format!("single.{ext}"))).unwrap(),
-            fs::read(dir.path().join(format!("merged.{ext}"))).unwrap(),
+            fs::read_to_string(dir.path().join(format!("single.{ext}"))).unwrap(),
+            fs::read_to_string(dir.path().join(format!("merged.{ext}"))).unwrap(),
             "merged.{ext} differs from the single run"
         );
     }
@@ -256,8 +256,8 @@ fn interrupted_run_resumes(signal: &str) {
     let full: Vec<&str> = full.iter().map(String::as_str).collect();
     ok(&lab(&dir, &full), "uninterrupted");
     assert_eq!(
-        fs::read(dir.path().join("run.csv")).unwrap(),
-        fs::read(dir.path().join("full.csv")).unwrap(),
+        fs::read_to_string(dir.path().join("run.csv")).unwrap(),
+        fs::read_to_string(dir.path().join("full.csv")).unwrap(),
         "the resumed run differs from the uninterrupted one"
     );
     no_tmp_files(&dir);

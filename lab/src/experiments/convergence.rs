@@ -20,7 +20,7 @@ use linesample::{EstimateError, PatternError, Seed};
 use serde::{Deserialize, Serialize};
 
 use crate::cli::{ConvergenceArgs, MergeArgs, Primitive, ShiftMode};
-use crate::experiments::{config_from, file_name, OutputManifest};
+use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures;
 use crate::fit::{fit_loglog, Fit};
 use crate::integrand::{
@@ -28,7 +28,7 @@ use crate::integrand::{
     DEFAULT_SIGMA,
 };
 use crate::io::{self, table, FileGroup};
-use crate::runner::{self, CellInfo, Ctx, Experiment, Outcome, RunInfo};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec, Sampler, DEFAULT_RELATIVE_RADIUS};
 use crate::with_dims;
 
@@ -1000,33 +1000,25 @@ pub fn main(a: &ConvergenceArgs) -> Result<(), String> {
     let (config, out) = resolve(a)?;
     let exp = Convergence::new(config)?;
     let opts = a.run.options();
-    match runner::run(&exp, &out, &opts)? {
-        Outcome::Complete(cells, info) => {
-            complete(&exp, &cells, &info, &out, opts.quiet).map(|_| ())
-        }
-        Outcome::Shard {
-            shard, done, total, ..
-        } => {
-            if !opts.quiet {
-                println!(
-                    "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
-                     combine them with `linesample-lab merge --out OUT SHARD_OUT...`",
-                    runner::state::state_path(&out).display()
-                );
-            }
-            Ok(())
-        }
-    }
+    run_to_files(
+        &exp,
+        &out,
+        &opts,
+        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q).map(|_| ())),
+    )
 }
 
 /// `linesample-lab merge` for convergence shards.
 ///
 /// # Errors
-/// As [`runner::merge`].
+/// As [`crate::runner::merge`].
 pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
     let exp = Convergence::new(config_from(config, KIND)?)?;
-    let (cells, info) = runner::merge(&exp, &a.out, &a.shards)?;
-    complete(&exp, &cells, &info, &a.out, a.quiet).map(|_| ())
+    merge_to_files(
+        &exp,
+        a,
+        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q).map(|_| ())),
+    )
 }
 
 #[cfg(test)]

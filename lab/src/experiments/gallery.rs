@@ -10,9 +10,11 @@ use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
 use crate::cli::{GalleryArgs, MergeArgs, RunArgs, ShiftArgs, ShiftMode};
-use crate::experiments::{config_from, file_name, patterns, spectrum, OutputManifest};
+use crate::experiments::{
+    config_from, file_name, merge_to_files, patterns, run_to_files, spectrum, OutputManifest,
+};
 use crate::io::{self, table, FileGroup};
-use crate::runner::{self, CellInfo, Ctx, Experiment, Outcome, RunInfo};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{PatternSpec, Sampler};
 
 /// The experiment's name.
@@ -347,31 +349,21 @@ pub fn main(a: &GalleryArgs) -> Result<(), String> {
     };
     let exp = Gallery::new(config);
     let opts = a.run.options();
-    match runner::run(&exp, &a.out_dir, &opts)? {
-        Outcome::Complete(cells, info) => complete(&exp, &cells, &info, &a.out_dir, opts.quiet),
-        Outcome::Shard {
-            shard, done, total, ..
-        } => {
-            if !opts.quiet {
-                println!(
-                    "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
-                     combine them with `linesample-lab merge --out OUT_DIR SHARD_OUT_DIR...`",
-                    runner::state::state_path(&a.out_dir).display()
-                );
-            }
-            Ok(())
-        }
-    }
+    run_to_files(
+        &exp,
+        &a.out_dir,
+        &opts,
+        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)),
+    )
 }
 
 /// `linesample-lab merge` for gallery shards.
 ///
 /// # Errors
-/// As [`runner::merge`].
+/// As [`crate::runner::merge`].
 pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
     let exp = Gallery::new(config_from(config, KIND)?);
-    let (cells, info) = runner::merge(&exp, &a.out, &a.shards)?;
-    complete(&exp, &cells, &info, &a.out, a.quiet)
+    merge_to_files(&exp, a, Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)))
 }
 
 #[cfg(test)]

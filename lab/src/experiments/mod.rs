@@ -12,7 +12,54 @@ use std::path::Path;
 use serde::Serialize;
 
 use crate::cli::MergeArgs;
-use crate::runner::{self, RunInfo};
+use crate::runner::{self, Experiment, Outcome, RunInfo, RunOptions};
+
+/// How an experiment turns its finished cells into files: `(experiment,
+/// cells in order, run info, --out, quiet)`.
+pub type Complete<'a, E> =
+    dyn FnOnce(&E, Vec<<E as Experiment>::Cell>, &RunInfo, &Path, bool) -> Result<(), String> + 'a;
+
+/// Runs `exp` with its state next to `out`; when every cell is done, lets
+/// `complete` write the outputs, and when a shard is done, says how to merge.
+///
+/// # Errors
+/// Those of [`runner::run`] and of `complete`.
+pub fn run_to_files<E: Experiment>(
+    exp: &E,
+    out: &Path,
+    opts: &RunOptions,
+    complete: Box<Complete<'_, E>>,
+) -> Result<(), String> {
+    match runner::run(exp, out, opts)? {
+        Outcome::Complete(cells, info) => complete(exp, cells, &info, out, opts.quiet),
+        Outcome::Shard {
+            shard, done, total, ..
+        } => {
+            if !opts.quiet {
+                println!(
+                    "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
+                     combine them with `linesample-lab merge --out OUT SHARD_OUT...`",
+                    runner::state::state_path(out).display()
+                );
+            }
+            Ok(())
+        }
+    }
+}
+
+/// `linesample-lab merge` for one experiment: gathers the shards' cells and
+/// lets `complete` write the outputs to `--out`.
+///
+/// # Errors
+/// Those of [`runner::merge`] and of `complete`.
+pub fn merge_to_files<E: Experiment>(
+    exp: &E,
+    a: &MergeArgs,
+    complete: Box<Complete<'_, E>>,
+) -> Result<(), String> {
+    let (cells, info) = runner::merge(exp, &a.out, &a.shards)?;
+    complete(exp, cells, &info, &a.out, a.quiet)
+}
 
 /// The record written next to every runner command's outputs.
 #[derive(Debug, Serialize)]

@@ -27,12 +27,12 @@ use linesample_nufft as nufft;
 use serde::{Deserialize, Serialize};
 
 use crate::cli::{MergeArgs, Primitive, ShiftMode, SpectrumArgs};
-use crate::experiments::{config_from, file_name, OutputManifest};
+use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::{self, image};
 use crate::integrand::join;
 use crate::io::{self, buffer, table, FileGroup};
 use crate::pointfile;
-use crate::runner::{self, CellInfo, Ctx, Experiment, Outcome, RunInfo};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, PatternSpec};
 use crate::with_dims;
 
@@ -1247,33 +1247,25 @@ pub fn main(a: &SpectrumArgs) -> Result<(), String> {
     let Resolved { config, files, out } = resolve(a)?;
     let exp = Spectrum::new(config, files)?;
     let opts = a.run.options();
-    match runner::run(&exp, &out, &opts)? {
-        Outcome::Complete(cells, info) => {
-            complete(&exp, cells, &info, &out, opts.quiet).map(|_| ())
-        }
-        Outcome::Shard {
-            shard, done, total, ..
-        } => {
-            if !opts.quiet {
-                println!(
-                    "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
-                     combine them with `linesample-lab merge --out OUT SHARD_OUT...`",
-                    runner::state::state_path(&out).display()
-                );
-            }
-            Ok(())
-        }
-    }
+    run_to_files(
+        &exp,
+        &out,
+        &opts,
+        Box::new(|e, c, i, o, q| complete(e, c, i, o, q).map(|_| ())),
+    )
 }
 
 /// `linesample-lab merge` for spectrum shards.
 ///
 /// # Errors
-/// As [`runner::merge`].
+/// As [`crate::runner::merge`].
 pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
     let exp = Spectrum::new(config_from(config, KIND)?, None)?;
-    let (cells, info) = runner::merge(&exp, &a.out, &a.shards)?;
-    complete(&exp, cells, &info, &a.out, a.quiet).map(|_| ())
+    merge_to_files(
+        &exp,
+        a,
+        Box::new(|e, c, i, o, q| complete(e, c, i, o, q).map(|_| ())),
+    )
 }
 
 #[cfg(test)]

@@ -32,7 +32,7 @@ pub fn png(width: u32, height: u32, color: Color, pixels: &[u8]) -> Result<Vec<u
     Ok(out)
 }
 
-/// Pixel layout of [`png`].
+/// Pixel layout of [`png()`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Color {
     /// One byte per pixel.

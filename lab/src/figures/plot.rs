@@ -115,6 +115,15 @@ fn titled<'a>(
     Ok(body)
 }
 
+/// The shared chart frame: margins and label areas.
+fn builder<'a, 'b>(
+    area: &'a DrawingArea<SVGBackend<'b>, Shift>,
+) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
+    let mut b = ChartBuilder::on(area);
+    b.margin(14).x_label_area_size(44).y_label_area_size(70);
+    b
+}
+
 /// The shared legend style (upper right, framed, translucent background).
 macro_rules! legend {
     ($chart:expr) => {
@@ -167,10 +176,7 @@ pub fn loglog(p: &LogLog<'_>) -> Result<String, String> {
     {
         let root = SVGBackend::with_string(&mut s, SIZE).into_drawing_area();
         let body = titled(&root, p.title, p.subtitle)?;
-        let mut chart = ChartBuilder::on(&body)
-            .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
+        let mut chart = builder(&body)
             .build_cartesian_2d(
                 (10f64.powf(x0)..10f64.powf(x1)).log_scale(),
                 (ylo..yhi).log_scale(),
@@ -272,10 +278,7 @@ pub fn radial(p: &Radial<'_>) -> Result<String, String> {
     {
         let root = SVGBackend::with_string(&mut s, SIZE).into_drawing_area();
         let body = titled(&root, p.title, p.subtitle)?;
-        let mut chart = ChartBuilder::on(&body)
-            .margin(14)
-            .x_label_area_size(44)
-            .y_label_area_size(70)
+        let mut chart = builder(&body)
             .build_cartesian_2d(0f64..k as f64, (ylo..yhi).log_scale())
             .map_err(plot_err)?;
         chart

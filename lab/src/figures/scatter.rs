@@ -44,8 +44,15 @@ pub fn scatter(coords: &[f32], dims: usize, title: &str) -> Result<String, Strin
         2 => &[(0, 1, "xy")],
         _ => &[(0, 1, "xy"), (0, 2, "xz"), (1, 2, "yz")],
     };
-    let width = PANEL * panels.len() as u32 + 40;
-    let height = if dims == 1 { 170 } else { PANEL + 90 };
+    // Square plotting areas of PANEL pixels: per panel 2 × 10 margin and 36
+    // for the y labels; above, the title (about 32) and in 3D the panel
+    // caption (about 22); below, 28 for the x labels.
+    let width = (PANEL + 56) * panels.len() as u32;
+    let height = if dims == 1 {
+        170
+    } else {
+        PANEL + 20 + 28 + 32 + if dims == 3 { 22 } else { 0 }
+    };
     let mut s = String::new();
     {
         let root = SVGBackend::with_string(&mut s, (width, height)).into_drawing_area();
