@@ -5,7 +5,7 @@
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressState, ProgressStyle};
 
 /// A progress bar over the work of the cells a run computes.
 #[derive(Debug)]
@@ -36,9 +36,15 @@ impl Progress {
         let bar = ProgressBar::with_draw_target(Some(work), target);
         if let Ok(style) = ProgressStyle::with_template(
             "{spinner} {elapsed_precise} [{bar:30}] {human_pos}/{human_len} {msg} \
-             ({per_sec}, ETA {eta})",
+             ({rate}, ETA {eta})",
         ) {
-            bar.set_style(style.progress_chars("=> "));
+            bar.set_style(
+                style
+                    .with_key("rate", |s: &ProgressState, w: &mut dyn std::fmt::Write| {
+                        let _ = write!(w, "{:.0}/s", s.per_sec());
+                    })
+                    .progress_chars("=> "),
+            );
         }
         let p = Progress {
             bar,
