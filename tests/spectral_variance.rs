@@ -40,58 +40,13 @@ use linesample::estimator::{
 };
 use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, Integrand};
-use linesample::pattern::{Ccvt, Jittered, Pattern, PoissonDisk, PoissonMethod, Random};
+use linesample::pattern::{
+    Ccvt, Jittered, Pattern, PoissonDisk, PoissonDiskN, PoissonMethod, Random,
+};
 use linesample::primitive::Segment;
 use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
 use linesample::stats::RunningStats;
-use linesample::{PatternError, Pcg32, Seed};
-
-/// Exactly `n` Poisson-disk points per realisation (maximal dart throwing at
-/// 0.75 of the packing radius, a random subset of `n`).
-struct PoissonN<const D: usize> {
-    disk: PoissonDisk<D>,
-    n: usize,
-}
-
-impl<const D: usize> Pattern<D> for PoissonN<D> {
-    fn len(&self) -> usize {
-        self.n
-    }
-    fn fill_range(
-        &self,
-        seed: Seed,
-        first: usize,
-        out: &mut [[f32; D]],
-    ) -> Result<(), PatternError> {
-        let all = self.disk.generate_n_vec(self.n, seed)?;
-        out.copy_from_slice(&all[first..first + out.len()]);
-        Ok(())
-    }
-    fn fill_range_scalar(
-        &self,
-        seed: Seed,
-        first: usize,
-        out: &mut [[f32; D]],
-    ) -> Result<(), PatternError> {
-        self.fill_range(seed, first, out)
-    }
-    fn fill_range_soa(
-        &self,
-        seed: Seed,
-        first: usize,
-        out: [&mut [f32]; D],
-    ) -> Result<(), PatternError> {
-        let len = out[0].len();
-        let mut pts = vec![[0.0f32; D]; len];
-        self.fill_range(seed, first, &mut pts)?;
-        for (a, col) in out.into_iter().enumerate() {
-            for (x, p) in col.iter_mut().zip(&pts) {
-                *x = p[a];
-            }
-        }
-        Ok(())
-    }
-}
+use linesample::{Pcg32, Seed};
 
 #[derive(Clone, Copy)]
 enum Prim<const D: usize> {
@@ -457,12 +412,13 @@ fn table_2d_points() {
     let (disk, g2) = (disk(), gauss2());
     let random2 = Random::<2>::new(N2).unwrap();
     let jit2 = Jittered::new([16, 16]).unwrap();
-    let pd2 = PoissonN {
-        disk: PoissonDisk::<2>::for_n(N2, 0.75)
+    let pd2 = PoissonDiskN::new(
+        PoissonDisk::<2>::for_n(N2, 0.75)
             .unwrap()
             .with_method(PoissonMethod::MaximalDartThrowing),
-        n: N2,
-    };
+        N2,
+    )
+    .unwrap();
     let ccvt2 = Ccvt::<2>::new(N2).unwrap();
     let mut rows = Vec::new();
     for (pname, p, meas, reals) in [
@@ -580,12 +536,13 @@ fn table_3d() {
     let (ball, g3) = (ball(), gauss3());
     let random3 = Random::<3>::new(512).unwrap();
     let jit3 = Jittered::new([8, 8, 8]).unwrap();
-    let pd3 = PoissonN {
-        disk: PoissonDisk::<3>::for_n(512, 0.75)
+    let pd3 = PoissonDiskN::new(
+        PoissonDisk::<3>::for_n(512, 0.75)
             .unwrap()
             .with_method(PoissonMethod::MaximalDartThrowing),
-        n: 512,
-    };
+        512,
+    )
+    .unwrap();
     let random2 = Random::<2>::new(N2).unwrap();
     let jit2 = Jittered::new([16, 16]).unwrap();
     let oblique3 = Direction::new([0.3, 1.0, -0.6]).unwrap();
@@ -692,12 +649,13 @@ fn radial_form_matches_the_lattice_sum() {
         "{radial} vs {lattice}"
     );
     // Poisson-disk points (isotropic): the within-ring covariance is small.
-    let pd = PoissonN {
-        disk: PoissonDisk::<2>::for_n(64, 0.65)
+    let pd = PoissonDiskN::new(
+        PoissonDisk::<2>::for_n(64, 0.65)
             .unwrap()
             .with_method(PoissonMethod::MaximalDartThrowing),
-        n: 64,
-    };
+        64,
+    )
+    .unwrap();
     let mut per = Periodogram::new_vec(g);
     let mut dft = Dft::new_vec(g);
     let mut sc = vec![0.0; 64 * Dft::<2, Vec<f64>>::points_scratch_per_sample(g)];

@@ -32,3 +32,4 @@ pub mod io;
 pub mod pointfile;
 pub mod runner;
 pub mod sampler;
+pub mod term;

@@ -11,7 +11,7 @@ fn main() -> ExitCode {
     match dispatch(Cli::parse()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
-            eprintln!("error: {msg}");
+            linesample_lab::err!("error: {msg}");
             ExitCode::FAILURE
         }
     }

@@ -516,3 +516,29 @@ fn a_damaged_cell_is_computed_again() {
         b.len()
     );
 }
+
+#[test]
+fn a_reader_that_stops_early_does_not_break_the_run() {
+    // The rerun prints its "resuming" line, `head` exits, and the run goes on
+    // computing the missing cell and printing its table into a closed pipe.
+    let dir = TempDir::new("pipe");
+    let run = format!("{BIN} convergence --sampler random --n 16,4096 --realisations 4000 --out c");
+    ok(
+        &Command::new("sh")
+            .args(["-c", &run])
+            .current_dir(dir.path())
+            .output()
+            .unwrap(),
+        "first",
+    );
+    fs::remove_file(dir.path().join("c.state/cells/000001.bin")).unwrap();
+    fs::remove_file(dir.path().join("c.csv")).unwrap();
+    let cmd = format!("set -o pipefail; {run} | head -n 1 > /dev/null");
+    let o = Command::new("bash")
+        .args(["-c", &cmd])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(dir.path().join("c.csv").is_file());
+}

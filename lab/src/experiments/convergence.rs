@@ -980,9 +980,9 @@ pub fn complete(
     group.add_bytes(&json_path, &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {
-        print!("{}", report(cfg, &res, info.threads));
-        println!("total wall time {:.2} s", info.wall.as_secs_f64());
-        println!(
+        crate::out!("{}", report(cfg, &res, info.threads).trim_end());
+        crate::out!("total wall time {:.2} s", info.wall.as_secs_f64());
+        crate::out!(
             "wrote {}, {} and {}",
             csv_path.display(),
             svg_path.display(),

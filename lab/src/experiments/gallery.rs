@@ -290,15 +290,15 @@ pub fn complete(
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {
-        print!("{table_text}");
+        crate::out!("{}", table_text.trim_end());
         if cfg.spectrum_realizations > 0 {
-            println!(
+            crate::out!(
                 "spectra: {} realisations each, {:.2} s of pattern generation and NUFFT in all",
                 cfg.spectrum_realizations,
                 spectrum_ms / 1e3
             );
         }
-        println!("wrote {}", index.display());
+        crate::out!("wrote {}", index.display());
     }
     Ok(())
 }

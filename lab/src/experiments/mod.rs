@@ -36,7 +36,7 @@ pub fn run_to_files<E: Experiment>(
             shard, done, total, ..
         } => {
             if !opts.quiet {
-                println!(
+                crate::out!(
                     "shard {shard}: {done} of {total} cells done in {}; when every shard is done, \
                      combine them with `linesample-lab merge --out OUT SHARD_OUT...`",
                     runner::state::state_path(out).display()

@@ -188,7 +188,7 @@ pub fn main(a: &PatternsArgs) -> Result<(), String> {
     let t = title(sampler, &points, a.seed, a.realization, shift);
     let (txt, svg) = stage(&mut group, &prefix, &points, &t)?;
     group.commit()?;
-    println!(
+    crate::out!(
         "wrote {} and {} ({} points)",
         txt.display(),
         svg.display(),

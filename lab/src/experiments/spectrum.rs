@@ -831,8 +831,10 @@ fn run_block<const D: usize, const E: usize>(
         ctx.advance(1);
     }
     let (sums, n) = total.parts();
+    let mut copy = buffer::empty(sums.len(), "the periodogram")?;
+    copy.extend_from_slice(sums);
     Ok(Cell {
-        sums: sums.to_vec(),
+        sums: copy,
         realisations: n,
         rings,
         seconds: t.elapsed().as_secs_f64(),
@@ -947,10 +949,10 @@ fn summarise<const D: usize, const E: usize>(
         .radial_average(&mut mean, &mut count)
         .map_err(|e| e.to_string())?;
     let se = rings.iter().map(RunningStats::mean_std_error).collect();
-    let image = (E >= 2).then(|| {
+    let image = if E >= 2 {
         let k = cfg.k as i32;
         let side = 2 * cfg.k + 1;
-        let mut values = Vec::with_capacity(side * side);
+        let mut values = buffer::empty(side * side, "the spectrum image")?;
         for row in 0..side as i32 {
             for col in 0..side as i32 {
                 let mut j = [0i32; E];
@@ -959,8 +961,10 @@ fn summarise<const D: usize, const E: usize>(
                 values.push(total.mean(j).unwrap_or(0.0));
             }
         }
-        Image { side, values }
-    });
+        Some(Image { side, values })
+    } else {
+        None
+    };
     let (hi_lo, low_hi) = bands(cfg.k, cfg.n);
     Ok(Summary {
         k: cfg.k,
@@ -1161,13 +1165,13 @@ pub fn complete(
     group.add_bytes(&json_path, &io::json(&manifest)?)?;
     group.commit()?;
     for note in &cfg.notes {
-        eprintln!("note: {note}");
+        crate::err!("note: {note}");
     }
     if !quiet {
-        print!("{}", report(cfg, &s, info.threads));
-        println!("total wall time {:.2} s", info.wall.as_secs_f64());
+        crate::out!("{}", report(cfg, &s, info.threads).trim_end());
+        crate::out!("total wall time {:.2} s", info.wall.as_secs_f64());
         let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
-        println!(
+        crate::out!(
             "wrote {} and {}{}",
             names[..names.len() - 1].join(", "),
             json_path.display(),

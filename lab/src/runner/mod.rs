@@ -241,7 +241,7 @@ pub fn run<E: Experiment>(
             // A damaged cell (e.g. after a power loss) is computed again.
             Err(e) => {
                 if !opts.quiet {
-                    eprintln!("note: {e}: computing it again");
+                    crate::err!("note: {e}: computing it again");
                 }
             }
         }
@@ -253,7 +253,7 @@ pub fn run<E: Experiment>(
         .filter(|i| !have.contains_key(i))
         .collect();
     if resumed > 0 && !opts.quiet {
-        println!(
+        crate::out!(
             "resuming from {}: {resumed} of {} cell(s) already done, computing {}",
             dir.path().display(),
             mine.len(),
@@ -357,9 +357,8 @@ pub fn merge<E: Experiment>(
 ) -> Result<(Vec<E::Cell>, RunInfo), String> {
     let start = Instant::now();
     let total = exp.cells().len();
-    let mut seen: Vec<Shard> = Vec::new();
-    let mut bytes: BTreeMap<usize, (Vec<u8>, f64)> = BTreeMap::new();
-    let mut count = None;
+    // Check every shard before writing anything.
+    let mut seen: Vec<(Shard, &PathBuf)> = Vec::new();
     for path in shards {
         let stored = read_manifest_json(path)?;
         let shard: Shard = stored
@@ -382,40 +381,23 @@ pub fn merge<E: Experiment>(
         );
         state::check_manifest(&stored, &expected, &state::state_path(path))
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        if *count.get_or_insert(shard.count) != shard.count {
-            return Err(format!(
-                "{}: shard {shard}, but the first shard was one of {}",
-                path.display(),
-                count.unwrap_or(0)
-            ));
+        if let Some((first, _)) = seen.first() {
+            if first.count != shard.count {
+                return Err(format!(
+                    "{}: shard {shard}, but the first shard was one of {}",
+                    path.display(),
+                    first.count
+                ));
+            }
         }
-        if seen.contains(&shard) {
+        if seen.iter().any(|(s, _)| *s == shard) {
             return Err(format!("{}: shard {shard} is given twice", path.display()));
         }
-        seen.push(shard);
-        let dir = state::state_path(path);
-        for i in (0..total).filter(|&c| shard.owns(c)) {
-            let p = dir.join("cells").join(format!("{i:06}.bin"));
-            let b = match std::fs::read(&p) {
-                Ok(b) => b,
-                Err(_) => {
-                    return Err(format!(
-                        "{}: shard {shard} has not finished cell {i} ({}); rerun that shard's \
-                         command to complete it",
-                        path.display(),
-                        exp.cells()[i].label
-                    ))
-                }
-            };
-            let s: Stored<E::Cell> = state::decode_cell(&b, &p, i).map_err(|e| {
-                format!("{e}; rerun shard {shard} (it recomputes the cell) and merge again")
-            })?;
-            bytes.insert(i, (b, s.seconds));
-        }
+        seen.push((shard, path));
     }
-    let n = count.unwrap_or(0);
+    let n = seen.first().map_or(0, |(s, _)| s.count);
     let missing: Vec<String> = (1..=n)
-        .filter(|&i| !seen.iter().any(|s| s.index == i))
+        .filter(|&i| !seen.iter().any(|(s, _)| s.index == i))
         .map(|i| format!("{i}/{n}"))
         .collect();
     if !missing.is_empty() || shards.is_empty() {
@@ -428,19 +410,43 @@ pub fn merge<E: Experiment>(
             }
         ));
     }
+    for &(shard, path) in &seen {
+        let dir = state::state_path(path).join("cells");
+        for i in (0..total).filter(|&c| shard.owns(c)) {
+            if !dir.join(format!("{i:06}.bin")).is_file() {
+                return Err(format!(
+                    "{}: shard {shard} has not finished cell {i} ({}); rerun that shard's \
+                     command to complete it",
+                    path.display(),
+                    exp.cells()[i].label
+                ));
+            }
+        }
+    }
+    // Copy cell by cell (each decoded to check it), then read them in order.
     let dir = StateDir::open(out)?;
     let manifest = Manifest::new(E::KIND, total, None, command_line(), exp.config().clone());
     match dir.read_manifest()? {
         Some(stored) => state::check_manifest(&stored, &manifest, dir.path())?,
         None => dir.write_manifest(&manifest)?,
     }
+    for &(shard, path) in &seen {
+        let cells = state::state_path(path).join("cells");
+        for i in (0..total).filter(|&c| shard.owns(c)) {
+            let p = cells.join(format!("{i:06}.bin"));
+            let b = state::read_file(&p)?;
+            state::decode_cell::<E::Cell>(&b, &p, i).map_err(|e| {
+                format!("{e}; rerun shard {shard} (it recomputes the cell) and merge again")
+            })?;
+            dir.write_cell_bytes(i, &b)?;
+        }
+    }
     let mut cells = Vec::with_capacity(total);
     let mut seconds = Vec::with_capacity(total);
-    for (i, (b, s)) in bytes {
-        dir.write_cell_bytes(i, &b)?;
-        let stored: Stored<E::Cell> = state::decode_cell(&b, &dir.cell_path(i), i)?;
+    for i in 0..total {
+        let stored: Stored<E::Cell> = dir.read_cell(i)?;
         cells.push(stored.cell);
-        seconds.push(s);
+        seconds.push(stored.seconds);
     }
     Ok((
         cells,

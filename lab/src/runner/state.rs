@@ -248,10 +248,14 @@ impl StateDir {
     /// # Errors
     /// On an encoding or I/O error.
     pub fn write_cell<C: Serialize>(&self, stored: &Stored<C>) -> Result<(), String> {
-        let bytes = encode_cell(stored)?;
         let index = usize::try_from(stored.index).map_err(|_| "internal error: cell index")?;
         let mut g = FileGroup::volatile();
-        g.add_bytes(self.cell_path(index), &bytes)?;
+        // Streamed: no second copy of a large accumulator in memory.
+        g.add(self.cell_path(index), |w| {
+            postcard::to_io(stored, w)
+                .map(|_| ())
+                .map_err(|e| std::io::Error::other(format!("encoding the cell: {e}")))
+        })?;
         g.commit()
     }
 
@@ -266,21 +270,28 @@ impl StateDir {
     }
 }
 
-/// The postcard bytes of a cell.
-///
-/// # Errors
-/// Only on an internal encoding error.
-pub fn encode_cell<C: Serialize>(stored: &Stored<C>) -> Result<Vec<u8>, String> {
-    postcard::to_stdvec(stored).map_err(|e| format!("internal error: encoding a cell: {e}"))
-}
-
 /// Reads and decodes a cell file, checking it holds cell `index`.
 ///
 /// # Errors
 /// If the file cannot be read or decoded, or holds another cell.
 pub fn read_cell_file<C: DeserializeOwned>(path: &Path, index: usize) -> Result<Stored<C>, String> {
-    let bytes = fs::read(path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let bytes = read_file(path)?;
     decode_cell(&bytes, path, index)
+}
+
+/// A file's bytes in a fallibly allocated buffer.
+///
+/// # Errors
+/// If the file cannot be read or its buffer cannot be allocated.
+pub fn read_file(path: &Path) -> Result<Vec<u8>, String> {
+    use std::io::Read;
+    let err = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
+    let mut f = File::open(path).map_err(err)?;
+    let len = f.metadata().map_err(err)?.len();
+    let len = usize::try_from(len).map_err(|_| format!("{}: too large", path.display()))?;
+    let mut bytes = io::buffer::empty(len, &path.display().to_string())?;
+    f.read_to_end(&mut bytes).map_err(err)?;
+    Ok(bytes)
 }
 
 /// Decodes cell bytes read from `path`.
