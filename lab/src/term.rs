@@ -1,6 +1,6 @@
 //! Printing that never panics: `println!` panics when stdout is a closed pipe
 //! (`linesample-lab … | head -1`), which would abort a run whose files are
-//! already written or still to be computed. [`out!`] and [`err!`] write a
+//! already written or still to be computed. [`crate::out!`] and [`crate::err!`] write a
 //! line and ignore write errors, so a reader that stops early only loses
 //! text.
 
