@@ -4,7 +4,9 @@
 
 use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, HalfSpace, Integrand};
+use linesample::pattern::Ccvt;
 use linesample::primitive::Line;
+use linesample::Seed;
 
 /// A ball of radius 1.28e-159 gave a chord 1.4e-7 longer than its diameter
 /// (the double-double squares underflowed): such radii are now rejected.
@@ -188,4 +190,42 @@ fn ball_near_tangent_clipped_chord_is_exact() {
         ((got - h) / h).abs() < 1e-13,
         "clipped chord {got:e} vs {h:e}"
     );
+}
+
+/// A converged CCVT run (2D, N = 13, capacity 13, jitter 3e-5) left site 7
+/// exactly one point's worth (1/13) off the toroidal centroid of its points:
+/// its last centroid step was taken in the frame of its old position, from
+/// which its points straddled the antipode. A moved site is now re-centred in
+/// its own frame.
+#[test]
+fn converged_ccvt_sites_are_centroids_in_their_own_frame() {
+    let r = Ccvt::<2>::new(13)
+        .unwrap()
+        .capacity(13)
+        .unwrap()
+        .max_iterations(14)
+        .unwrap()
+        .jitter(3.05175782320255e-5)
+        .unwrap()
+        .generate(Seed::new(2025524822301154111));
+    assert!(r.converged());
+    let wrap = |d: f64| d - (d + 0.5).floor();
+    let (sites, pts, asg) = (r.sites_f64(), r.discrete_points(), r.assignment());
+    for (i, s) in sites.iter().enumerate() {
+        let mut sum = [0.0f64; 2];
+        for (p, &a) in pts.iter().zip(asg) {
+            if a as usize == i {
+                for j in 0..2 {
+                    sum[j] += wrap(p[j] - s[j]);
+                }
+            }
+        }
+        for (j, v) in sum.iter().enumerate() {
+            assert!(
+                (v / 13.0).abs() <= 1e-12,
+                "site {i}, axis {j}: {:e} off",
+                v / 13.0
+            );
+        }
+    }
 }

@@ -90,7 +90,11 @@ mod imp {
     ///      offsets `e = wrap(x − s)` the mean minimises `Σ|e − m|²`, and the toroidal
     ///      distance to the new site is at most `|e − m|`, so `E` never increases.
     ///    * *Stop* when an iteration makes no exchange (the point set is stable: no
-    ///      pair of sites can lower `E` by any exchange), or after `max_iterations`.
+    ///      pair of sites can lower `E` by any exchange) and every site is the
+    ///      centroid of its points seen from itself (a centroid step is taken in the
+    ///      frame of the site's old position; if its points straddled that
+    ///      position's antipode, the step is repeated from the new position and
+    ///      the iteration goes on), or after `max_iterations`.
     /// 4. **Neighbour pairs.** Let `r_i = max |x − s_i|` over the points of site `i`.
     ///    If `|s_i − s_j| ≥ r_i + r_j`, the triangle inequality gives
     ///    `|x − s_j| ≥ |x − s_i|` and `|y − s_i| ≥ |y − s_j|` for all `x` of `i`, `y`
@@ -368,7 +372,10 @@ mod imp {
                 let swaps = st.swap_phase();
                 st.centroid_phase();
                 trace(iterations, st.total_energy() / m);
-                if swaps == 0 {
+                // A stable assignment is converged once every site is also the
+                // centroid of its points seen from itself (see
+                // `recentre_straddling`); otherwise iterate on.
+                if swaps == 0 && st.recentre_straddling() == 0 {
                     converged = true;
                     break;
                 }
@@ -779,6 +786,55 @@ mod imp {
             self.hi = hi_all;
             self.hj = hj_all;
             k
+        }
+
+        /// Re-centres every site that is not the toroidal centroid of its
+        /// points in its own frame, and returns how many moved.
+        ///
+        /// A centroid step takes the mean offset `wrap(x − s)` seen from the
+        /// site's position before the step. When a site's points straddle the
+        /// antipode of that position, an offset wraps differently seen from
+        /// the new position, and the new site is one point's worth (`1/c` per
+        /// such point) off its centroid. Here each site's offsets are summed
+        /// from where it is; a sum of `1/4` or more on an axis (exact
+        /// centroids give rounding noise, a changed wrap gives ±1) repeats the
+        /// step from there until no offset changes its wrap. A moved site is
+        /// marked changed, so the next swap phase re-examines its pairs. Each
+        /// step lowers the energy (the mean minimises the squared offsets, and
+        /// a toroidal distance is at most its offset). Sites already at their
+        /// centroids are not touched, so runs where this never happens keep
+        /// their values bit for bit.
+        fn recentre_straddling(&mut self) -> usize {
+            const PASSES: usize = 8;
+            let c = self.c;
+            let inv = 1.0 / c as f64;
+            let mut moved = 0;
+            for i in 0..self.n {
+                let mut s = self.sites[i];
+                let mut changed = false;
+                for _ in 0..PASSES {
+                    let mut sum = [0.0f64; D];
+                    for x in &self.slab[i * c..(i + 1) * c] {
+                        for j in 0..D {
+                            sum[j] += torus_delta(x[j] - s[j]);
+                        }
+                    }
+                    if sum.iter().all(|v| v.abs() < 0.25) {
+                        break;
+                    }
+                    for j in 0..D {
+                        s[j] = frac(s[j] + sum[j] * inv);
+                    }
+                    changed = true;
+                }
+                if changed {
+                    self.sites[i] = s;
+                    self.measure(i);
+                    self.changed_prev[i] = true;
+                    moved += 1;
+                }
+            }
+            moved
         }
 
         /// Moves every changed site to the toroidal centroid of its points.

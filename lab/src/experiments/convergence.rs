@@ -608,7 +608,7 @@ impl Convergence {
     /// # Errors
     /// The first invalid row's message.
     pub fn new(config: Config) -> Result<Self, String> {
-        with_dims!(config.dims(), config.pattern_dims(), validate(&config))?;
+        with_dims!(domain config.dims(), validate(&config))?;
         let cells = config
             .rows
             .iter()
@@ -689,11 +689,7 @@ impl Experiment for Convergence {
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
         let row = self.config.rows[index];
-        with_dims!(
-            self.config.dims(),
-            self.config.pattern_dims(),
-            run_row(self, &row, ctx)
-        )
+        with_dims!(domain self.config.dims(), run_row(self, &row, ctx))
     }
 }
 
@@ -745,7 +741,7 @@ impl Convergence {
     /// If a stored chunk is invalid or the integrand cannot be built.
     pub fn results(&self, cells: &[Cell]) -> Result<Results, String> {
         let cfg = &self.config;
-        let exact = with_dims!(cfg.dims(), cfg.dims(), exact_integral(cfg))?;
+        let exact = with_dims!(domain cfg.dims(), exact_integral(cfg))?;
         let mut rows = Vec::with_capacity(cells.len());
         for (row, cell) in cfg.rows.iter().zip(cells) {
             let mut st = RunningStats::new();
