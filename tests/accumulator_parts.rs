@@ -47,6 +47,9 @@ fn periodogram_round_trip_is_exact() {
     assert_eq!(bits(imported.parts().0), bits(state));
     assert_eq!(imported.realisations(), 7);
     assert_eq!(means(&imported), means(&a));
+    // The buffer itself, without a copy.
+    let (buf, n) = a.clone().into_parts();
+    assert_eq!((bits(&buf), n), (bits(state), reals));
     // A caller slice longer than needed works too, and is not zeroed.
     let mut long = state.to_vec();
     long.extend([9.0, 9.0]);

@@ -438,6 +438,15 @@ impl<const D: usize, B: AsRef<[f64]>> Periodogram<D, B> {
         )
     }
 
+    /// The caller's buffer back, with the realisation count: the state of
+    /// [`Periodogram::parts`] without a copy (its first
+    /// [`Periodogram::buffer_len`] values; [`Periodogram::from_parts`] takes
+    /// it back).
+    #[must_use]
+    pub fn into_parts(self) -> (B, u64) {
+        (self.buf, self.realisations)
+    }
+
     /// An accumulator holding exported state ([`Periodogram::parts`]): `buf`
     /// starts with the [`Periodogram::buffer_len`] values, which are kept
     /// as they are (not zeroed), and `realisations` is the realisation count.
