@@ -12,16 +12,9 @@ use crate::integrand::IntegrandKind;
 use crate::runner::{RunOptions, Shard, MAX_THREADS};
 use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
 
-/// What every file-writing command says about its outputs.
-pub const ATOMIC: &str = "\
-Every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely named
-temporary files next to the targets and renamed into place only when all are
-complete; on any failure the temporaries are removed and existing files are left
-byte-for-byte unchanged. Errors print one line `error: <message>` on stderr and
-exit with a non-zero code.";
-
-/// What every runner command says about resuming, sharding and progress.
-pub const RUNNER: &str = "\
+/// The top-level `--help` notes: runs (cells, state, shards, progress) and
+/// files.
+pub const TOP_HELP: &str = "\
 Runs: the work is a list of cells (see the command's description). Every finished
 cell is written atomically to the state folder OUT.state/ next to the output (OUT
 is --out or --out-dir) with its accumulator state; rerunning the same command
@@ -33,7 +26,21 @@ the N shards into exactly the files one unsharded run with --out OUT writes.
 Results never depend on --threads. A progress bar (cells, work done, rate, ETA) is
 drawn on stderr when it is a terminal, unless --quiet. OUT.json (gallery:
 OUT_DIR/manifest.json) records the command, the configuration, the seeds, the
-version, the thread count and the timings.";
+version, the thread count and the timings.
+
+Files: every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely
+named temporary files next to the targets and renamed into place only when all
+are complete; on any failure the temporaries are removed and existing files are
+left byte-for-byte unchanged. Errors print one line `error: <message>` on stderr
+and exit with a non-zero code.";
+
+/// What every file-writing command says about its outputs.
+pub const ATOMIC: &str = "\
+Every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely named
+temporary files next to the targets and renamed into place only when all are
+complete; on any failure the temporaries are removed and existing files are left
+byte-for-byte unchanged. Errors print one line `error: <message>` on stderr and
+exit with a non-zero code.";
 
 /// Experiment runner for the linesample kernel: writes sample patterns as point
 /// files and SVG plots, measures their power spectra, and measures how
@@ -41,7 +48,7 @@ version, the thread count and the timings.";
 ///
 /// Without a subcommand it runs `gallery` with its defaults.
 #[derive(Debug, Parser)]
-#[command(name = "linesample-lab", version, after_long_help = ATOMIC)]
+#[command(name = "linesample-lab", version, after_long_help = TOP_HELP)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Option<Command>,
@@ -77,7 +84,7 @@ pub enum Command {
     #[command(after_long_help = gallery::FORMATS)]
     Gallery(GalleryArgs),
     /// Measure how the variance of one estimator falls as N grows; write
-    /// PREFIX.csv (table) and PREFIX.svg (log-log plot).
+    /// PREFIX.csv (table), PREFIX.svg (log-log plot) and PREFIX.json (manifest).
     ///
     /// For each N in --n it runs R (--realisations) independent realisations of
     /// one estimator of the integral of --integrand over the unit torus [0,1)^D:
@@ -104,7 +111,8 @@ pub enum Command {
     Convergence(ConvergenceArgs),
     /// Measure the mean periodogram <N*P(nu)> of a pattern, of segments or lines
     /// through it, or of point sets read from files; write PREFIX.png (log-scale
-    /// image), PREFIX-radial.csv and PREFIX-radial.svg (radial average).
+    /// image), PREFIX-radial.csv and PREFIX-radial.svg (radial average) and
+    /// PREFIX.json (manifest).
     ///
     /// For each of R realisations (--realizations; realisation r of a sampler
     /// uses the points of `patterns --seed SEED --realization r`; with --input

@@ -542,3 +542,22 @@ fn a_reader_that_stops_early_does_not_break_the_run() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(dir.path().join("c.csv").is_file());
 }
+
+#[test]
+fn the_top_level_help_explains_runs() {
+    let dir = TempDir::new("help-top");
+    let o = lab(&dir, &["--help"]);
+    ok(&o, "help");
+    let h = stdout(&o);
+    for want in [
+        "OUT.state/",
+        "--fresh",
+        "--shard I/N",
+        "linesample-lab merge",
+        "--threads",
+        "--quiet",
+        "byte-for-byte",
+    ] {
+        assert!(h.contains(want), "{want}: {h}");
+    }
+}

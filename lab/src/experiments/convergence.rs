@@ -79,8 +79,8 @@ The printed table adds the time per realisation in microseconds: the wall time o
 each chunk of realisations, summed over the row's chunks and divided by R (so it
 does not shrink with --threads; a busy machine inflates it).
 
-Runs: one cell per N, kept in PREFIX.state/ (resume, --fresh, --shard, merge: see
-`linesample-lab --help`, and the runner notes below).
+Runs: one cell per N, kept in PREFIX.state/ (resume, --fresh, --shard, merge,
+progress: see `linesample-lab --help`).
 
 Every group of files is written to uniquely named temporary files and renamed into
 place only when all are complete; on failure existing files stay unchanged.
