@@ -1034,6 +1034,16 @@ pub fn stage(
     subtitle: &str,
 ) -> Result<Vec<PathBuf>, String> {
     let mut paths = Vec::new();
+    let rings_ok = [s.mean.len(), s.se.len(), s.count.len()]
+        .iter()
+        .all(|&l| l == s.k + 1);
+    let image_ok = s
+        .image
+        .as_ref()
+        .is_none_or(|i| i.values.len() == i.side * i.side);
+    if !rings_ok || !image_ok {
+        return Err("a stored spectrum summary has arrays of the wrong length; use --fresh".into());
+    }
     if let Some((w, px)) = image_pixels(s) {
         let png_path = io::suffixed(prefix, ".png");
         let side = u32::try_from(w).map_err(|_| "internal error: image too large")?;

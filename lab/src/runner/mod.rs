@@ -372,6 +372,12 @@ pub fn merge<E: Experiment>(
                     path.display()
                 )
             })?;
+        if shard.count == 0 || shard.index == 0 || shard.index > shard.count {
+            return Err(format!(
+                "{}: the manifest names shard {shard}, which is not I/N with 1 <= I <= N",
+                path.display()
+            ));
+        }
         let expected = Manifest::new(
             E::KIND,
             total,
