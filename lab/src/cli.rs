@@ -12,9 +12,23 @@ use crate::integrand::IntegrandKind;
 use crate::runner::{RunOptions, Shard, MAX_THREADS};
 use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
 
+/// The note on how every command writes files (a literal, so the commands'
+/// `--help` texts can `concat!` it).
+#[macro_export]
+macro_rules! files_note {
+    () => {
+        "Files: every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely
+named temporary files next to the targets and renamed into place only when all
+are complete; on any failure the temporaries are removed and existing files are
+left byte-for-byte unchanged. Errors print one line `error: <message>` on stderr
+and exit with a non-zero code."
+    };
+}
+
 /// The top-level `--help` notes: runs (cells, state, shards, progress) and
 /// files.
-pub const TOP_HELP: &str = "\
+pub const TOP_HELP: &str = concat!(
+    "\
 Runs: the work is a list of cells (see the command's description). Every finished
 cell is written atomically to the state folder OUT.state/ next to the output (OUT
 is --out or --out-dir) with its accumulator state; rerunning the same command
@@ -28,19 +42,9 @@ drawn on stderr when it is a terminal, unless --quiet. OUT.json (gallery:
 OUT_DIR/manifest.json) records the command, the configuration, the seeds, the
 version, the thread count and the timings.
 
-Files: every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely
-named temporary files next to the targets and renamed into place only when all
-are complete; on any failure the temporaries are removed and existing files are
-left byte-for-byte unchanged. Errors print one line `error: <message>` on stderr
-and exit with a non-zero code.";
-
-/// What every file-writing command says about its outputs.
-pub const ATOMIC: &str = "\
-Every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely named
-temporary files next to the targets and renamed into place only when all are
-complete; on any failure the temporaries are removed and existing files are left
-byte-for-byte unchanged. Errors print one line `error: <message>` on stderr and
-exit with a non-zero code.";
+",
+    crate::files_note!()
+);
 
 /// Experiment runner for the linesample kernel: writes sample patterns as point
 /// files and SVG plots, measures their power spectra, and measures how
@@ -147,7 +151,7 @@ pub enum Command {
     /// GNU parallel (8 shards on the machines of --sshloginfile, or locally):
     ///   parallel linesample-lab convergence ... --quiet --shard {}/8 --out runs/s{} ::: $(seq 8)
     ///   linesample-lab merge --out runs/all runs/s{1..8}
-    #[command(after_long_help = ATOMIC)]
+    #[command(after_long_help = crate::files_note!())]
     Merge(MergeArgs),
 }
 

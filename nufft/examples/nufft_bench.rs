@@ -28,27 +28,10 @@ use std::time::Instant;
 
 use linesample_nufft::{Plan, Upsampling};
 
-/// SplitMix64 uniforms in [0,1): `(z >> 11) / 2^53` (mirrored in
-/// nufft/tools/finufft_bench.py).
-fn uniforms(seed: u64, count: usize) -> Vec<f64> {
-    let mut s = seed;
-    (0..count)
-        .map(|_| {
-            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = s;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^= z >> 31;
-            (z >> 11) as f64 / (1u64 << 53) as f64
-        })
-        .collect()
-}
-
+/// The shared SplitMix64 points (seed 42; the Python FINUFFT script uses the
+/// same stream).
 fn points<const D: usize>(n: usize) -> Vec<[f64; D]> {
-    let u = uniforms(42, n * D);
-    (0..n)
-        .map(|i| core::array::from_fn(|d| u[i * D + d]))
-        .collect()
+    linesample_nufft::testdata::points::<D>(42, n)
 }
 
 /// Exact e^{−2πi j x} for j ∈ [−K, K] (index j + K), reducing j·x mod 1 first.

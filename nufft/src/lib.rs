@@ -1256,12 +1256,14 @@ impl<const D: usize> Plan<D> {
     }
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Deterministic uniform numbers in [0,1) (SplitMix64).
-    fn uniforms(seed: u64, count: usize) -> Vec<f64> {
+/// Deterministic benchmark and test data shared by the unit tests, the
+/// criterion bench and the `nufft_bench` example (and mirrored in
+/// `nufft/tools/finufft_bench.py`, so FINUFFT is timed on the same points).
+#[doc(hidden)]
+pub mod testdata {
+    /// `count` SplitMix64 uniforms in `[0, 1)`: `(z >> 11) / 2^53`.
+    #[must_use]
+    pub fn uniforms(seed: u64, count: usize) -> Vec<f64> {
         let mut s = seed;
         (0..count)
             .map(|_| {
@@ -1275,12 +1277,20 @@ mod tests {
             .collect()
     }
 
-    fn points<const D: usize>(seed: u64, count: usize) -> Vec<[f64; D]> {
+    /// `count` points in `[0, 1)^D` from [`uniforms`] (coordinates in order).
+    #[must_use]
+    pub fn points<const D: usize>(seed: u64, count: usize) -> Vec<[f64; D]> {
         let u = uniforms(seed, count * D);
         (0..count)
             .map(|i| core::array::from_fn(|d| u[i * D + d]))
             .collect()
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testdata::{points, uniforms};
+    use super::*;
 
     /// Half-grid frequencies in output order.
     fn freqs<const D: usize>(k: usize) -> Vec<[i64; D]> {

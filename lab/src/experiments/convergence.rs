@@ -52,7 +52,8 @@ pub const CSV_HEADER: &str =
     "n,realisations,mean,mean_se,exact,bias_z,variance,variance_se,var_times_n";
 
 /// The `convergence` output formats (its `--help`).
-pub const FORMATS: &str = "\
+pub const FORMATS: &str = concat!(
+    "\
 Output formats:
   PREFIX.csv  comment lines starting with '#' (the command that reproduces the run
               with every default filled in, the homogenisation (`# homogenised:
@@ -82,9 +83,9 @@ does not shrink with --threads; a busy machine inflates it).
 Runs: one cell per N, kept in PREFIX.state/ (resume, --fresh, --shard, merge,
 progress: see `linesample-lab --help`).
 
-Every group of files is written to uniquely named temporary files and renamed into
-place only when all are complete; on failure existing files stay unchanged.
-Errors print `error: <message>` on stderr and exit with a non-zero code.";
+",
+    crate::files_note!()
+);
 
 /// How segments and lines are oriented (resolved).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -503,8 +504,8 @@ fn directions<const D: usize>(cfg: &Config) -> Result<Vec<Direction<D>>, String>
     }
 }
 
-/// Everything one chunk needs: the integrand, the directions and the pattern
-/// of its row (`D`-dimensional for points and segments, `K = D − 1` for lines).
+/// Everything the chunks of a row share: the integrand, the directions and the
+/// pattern (`D`-dimensional for points and segments, `K = D − 1` for lines).
 struct Setup<const D: usize, const K: usize> {
     f: Box<dyn Integrand<D> + Send + Sync>,
     dirs: Vec<Direction<D>>,
@@ -633,9 +634,11 @@ fn run_row<const D: usize, const K: usize>(
 ) -> Result<Cell, String> {
     let cfg = &exp.config;
     let seed = Seed::new(Seed::new(cfg.seed).stream(row.n as u64));
+    // Pattern, integrand and directions once per row; each chunk borrows them
+    // for its own estimator and scratch.
+    let setup = Setup::<D, K>::new(cfg, row)?;
     let chunks = ctx.map_ordered(exp.chunks()?, |c| {
         let t = Instant::now();
-        let setup = Setup::<D, K>::new(cfg, row)?;
         let est = setup.estimator(cfg)?;
         let mut scratch = io::buffer::filled(est.scratch_len(), 0.0f32, "estimator scratch")?;
         let first = c as u64 * CHUNK;

@@ -24,17 +24,19 @@ pub const KIND: &str = "gallery";
 pub const INDEX_HEADER: &str = "sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum";
 
 /// The `gallery` output formats (its `--help`).
-pub const FORMATS: &str = "\
+pub const FORMATS: &str = concat!(
+    "\
 Output formats: the point files and plots as `patterns` writes them, the spectra
 as `spectrum` writes them (see their --help), OUT_DIR/index.csv as described
 above, and OUT_DIR/manifest.json (command, configuration, version, timings).
 
 Runs: one cell per pattern, kept in OUT_DIR.state/ (resume, --fresh, --shard,
 merge: see `linesample-lab --help`); a resumed gallery keeps the timings measured
-when each cell was computed. All files are written as one group at the end:
-uniquely named temporaries renamed into place only when all are complete, so on
-failure existing files stay unchanged. Errors print `error: <message>` on stderr
-and exit with a non-zero code.";
+when each cell was computed. All files are written as one group at the end.
+
+",
+    crate::files_note!()
+);
 
 /// One gallery entry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -80,15 +82,11 @@ impl Config {
     }
 }
 
-/// One cell: a pattern's realisation 0, its fill time and its spectrum.
+/// One cell: a pattern's realisation 0 with its median fill time, and its
+/// spectrum.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Cell {
-    /// Row-major coordinates.
-    pub coords: Vec<f32>,
-    pub dims: usize,
-    pub detail: Option<String>,
-    /// Median fill time, in nanoseconds.
-    pub median_ns: u64,
+    pub points: patterns::Points,
     pub spectrum: Option<spectrum::Summary>,
 }
 
@@ -163,10 +161,7 @@ impl Experiment for Gallery {
             None
         };
         Ok(Cell {
-            median_ns: u64::try_from(pts.median.as_nanos()).unwrap_or(u64::MAX),
-            coords: pts.coords,
-            dims: pts.dims,
-            detail: pts.detail,
+            points: pts,
             spectrum,
         })
     }
@@ -219,17 +214,12 @@ pub fn complete(
     );
     let mut spectrum_ms = 0.0;
     for (e, c) in cfg.entries.iter().zip(cells) {
-        let points = patterns::Points {
-            dims: c.dims,
-            coords: c.coords.clone(),
-            median: std::time::Duration::from_nanos(c.median_ns),
-            detail: c.detail.clone(),
-        };
+        let points = &c.points;
         let n = points.len();
         let stem = stem(e, n);
-        let title = patterns::title(e.sampler, &points, cfg.seed, 0, shifted);
-        let (txt, svg) = patterns::stage(&mut group, &dir.join(&stem), &points, &title)?;
-        let us = c.median_ns as f64 / 1e3;
+        let title = patterns::title(e.sampler, points, cfg.seed, 0, shifted);
+        let (txt, svg) = patterns::stage(&mut group, &dir.join(&stem), points, &title)?;
+        let us = points.median.as_secs_f64() * 1e6;
         let spec_stem = format!("{stem}-spectrum");
         if let Some(s) = &c.spectrum {
             let scfg = spectrum::Config::for_pattern(

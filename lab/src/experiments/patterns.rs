@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use linesample::Seed;
+use serde::{Deserialize, Serialize};
 
 use crate::cli::{PatternsArgs, ShiftMode};
 use crate::figures;
@@ -12,7 +13,8 @@ use crate::io::{self, FileGroup};
 use crate::sampler::{self, PatternSpec, Sampler};
 
 /// The `patterns` output formats (its `--help`).
-pub const FORMATS: &str = "\
+pub const FORMATS: &str = concat!(
+    "\
 Output formats:
   PREFIX.txt  one point per line, its D coordinates separated by single spaces,
               each the shortest decimal that round-trips the f32 (e.g. 0.25 0.7312012);
@@ -24,13 +26,12 @@ Output formats:
               projections xy, xz and yz side by side (3N circles). At most 65536
               points are drawn per panel (the title says so); the .txt has all.
 
-Both files are written to uniquely named temporary files and renamed into place
-only when both are complete, so the pair is either complete or absent (existing
-files stay unchanged on failure). Errors print `error: <message>` on stderr and
-exit with a non-zero code.";
+",
+    crate::files_note!()
+);
 
-/// One generated pattern realisation.
-#[derive(Clone, Debug)]
+/// One generated pattern realisation (also the gallery's stored cell).
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Points {
     /// Coordinates per point.
     pub dims: usize,

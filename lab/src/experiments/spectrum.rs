@@ -66,7 +66,8 @@ const CHUNK_SAMPLES: usize = 128;
 const MAX_CELLS: u64 = 8;
 
 /// The `spectrum` input and output formats (its `--help`).
-pub const FORMATS: &str = "\
+pub const FORMATS: &str = concat!(
+    "\
 Input format (--input FILE...): each file is one realisation, a plain text point
 file as `patterns` writes it (and UTK and other sampling toolkits read and write):
 one point per line, its D coordinates (1 <= D <= 3) separated by spaces or tabs.
@@ -126,10 +127,11 @@ mean of <N*P> over all frequencies with rings ceil(k/2)..k (about 1 for most
 patterns) and over rings 1..max(1, round(sqrt(N)/4)) (low for blue noise).
 
 Runs: cells are blocks of ceil(R/8) realisations, kept in PREFIX.state/ (resume,
---fresh, --shard, merge: see `linesample-lab --help`). Every group of files is
-written to uniquely named temporaries and renamed into place only when all are
-complete; on failure existing files stay unchanged. Errors print `error: <message>`
-on stderr and exit with a non-zero code.";
+--fresh, --shard, merge: see `linesample-lab --help`).
+
+",
+    crate::files_note!()
+);
 
 /// How the amplitudes are computed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]

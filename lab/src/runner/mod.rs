@@ -279,13 +279,7 @@ pub fn run<E: Experiment>(
         progress.cell_done();
         Ok(stored)
     };
-    let computed: Result<Vec<Stored<E::Cell>>, String> = pool.install(|| {
-        if E::PARALLEL_CELLS {
-            todo.par_iter().map(|&i| one(i)).collect()
-        } else {
-            todo.iter().map(|&i| one(i)).collect()
-        }
-    });
+    let computed = pool.install(|| each_cell::<E, _>(&todo, one));
     progress.finish();
     let computed = match computed {
         Ok(c) => c,
@@ -329,15 +323,14 @@ pub fn run<E: Experiment>(
 /// # Errors
 /// If there is no readable manifest.
 pub fn read_manifest_json(out: &Path) -> Result<serde_json::Value, String> {
-    let p = state::state_path(out).join("manifest.json");
-    let bytes = std::fs::read(&p).map_err(|e| {
+    let dir = state::state_path(out);
+    state::read_manifest_at(&dir)?.ok_or_else(|| {
         format!(
-            "{}: cannot read {} ({e}); is it the --out of a sharded run?",
+            "{}: {} has no manifest; is it the --out of a sharded run?",
             out.display(),
-            p.display()
+            dir.display()
         )
-    })?;
-    serde_json::from_slice(&bytes).map_err(|e| format!("{}: not a manifest: {e}", p.display()))
+    })
 }
 
 /// Gathers the cells of the shard runs whose `--out` were `shards` into a
@@ -361,23 +354,16 @@ pub fn merge<E: Experiment>(
     let mut seen: Vec<(Shard, &PathBuf)> = Vec::new();
     for path in shards {
         let stored = read_manifest_json(path)?;
-        let shard: Shard = stored
-            .get("shard")
-            .cloned()
-            .and_then(|v| serde_json::from_value::<Option<Shard>>(v).ok())
-            .flatten()
-            .ok_or_else(|| {
-                format!(
-                    "{}: not a sharded run (it was run without --shard)",
-                    path.display()
-                )
-            })?;
-        if shard.count == 0 || shard.index == 0 || shard.index > shard.count {
-            return Err(format!(
-                "{}: the manifest names shard {shard}, which is not I/N with 1 <= I <= N",
+        let shard: Shard = serde_json::from_value::<Option<Shard>>(
+            stored.get("shard").cloned().unwrap_or_default(),
+        )
+        .map_err(|e| format!("{}: the manifest's shard: {e}", path.display()))?
+        .ok_or_else(|| {
+            format!(
+                "{}: not a sharded run (it was run without --shard)",
                 path.display()
-            ));
-        }
+            )
+        })?;
         let expected = Manifest::new(
             E::KIND,
             total,
@@ -417,9 +403,9 @@ pub fn merge<E: Experiment>(
         ));
     }
     for &(shard, path) in &seen {
-        let dir = state::state_path(path).join("cells");
+        let dir = state::state_path(path);
         for i in (0..total).filter(|&c| shard.owns(c)) {
-            if !dir.join(format!("{i:06}.bin")).is_file() {
+            if !state::cell_file(&dir, i).is_file() {
                 return Err(format!(
                     "{}: shard {shard} has not finished cell {i} ({}); rerun that shard's \
                      command to complete it",
@@ -437,9 +423,9 @@ pub fn merge<E: Experiment>(
         None => dir.write_manifest(&manifest)?,
     }
     for &(shard, path) in &seen {
-        let cells = state::state_path(path).join("cells");
+        let from = state::state_path(path);
         for i in (0..total).filter(|&c| shard.owns(c)) {
-            let p = cells.join(format!("{i:06}.bin"));
+            let p = state::cell_file(&from, i);
             let b = state::read_file(&p)?;
             state::decode_cell::<E::Cell>(&b, &p, i).map_err(|e| {
                 format!("{e}; rerun shard {shard} (it recomputes the cell) and merge again")
@@ -479,15 +465,20 @@ pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::
     let ctx = Ctx {
         progress: &progress,
     };
-    let n = exp.cells().len();
-    pool.install(|| {
-        if E::PARALLEL_CELLS {
-            (0..n)
-                .into_par_iter()
-                .map(|i| exp.run_cell(i, &ctx))
-                .collect()
-        } else {
-            (0..n).map(|i| exp.run_cell(i, &ctx)).collect()
-        }
-    })
+    let all: Vec<usize> = (0..exp.cells().len()).collect();
+    pool.install(|| each_cell::<E, _>(&all, |i| exp.run_cell(i, &ctx)))
+}
+
+/// `f` on every cell of `indices`, in parallel unless `E` asks for its cells
+/// one after another; the results in the order of `indices` (the first error,
+/// if any). Call it inside the pool.
+fn each_cell<E: Experiment, T: Send>(
+    indices: &[usize],
+    f: impl Fn(usize) -> Result<T, String> + Sync + Send,
+) -> Result<Vec<T>, String> {
+    if E::PARALLEL_CELLS {
+        indices.par_iter().map(|&i| f(i)).collect()
+    } else {
+        indices.iter().map(|&i| f(i)).collect()
+    }
 }

@@ -9,6 +9,7 @@ use serde::{Deserialize, Serialize};
 /// `c mod count = index − 1`. The shards of one `count` partition the cells,
 /// whatever their number.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(try_from = "RawShard")]
 pub struct Shard {
     /// 1-based shard number.
     pub index: usize,
@@ -16,7 +17,33 @@ pub struct Shard {
     pub count: usize,
 }
 
+/// A shard as stored, checked by [`Shard::new`] when read back.
+#[derive(Deserialize)]
+struct RawShard {
+    index: usize,
+    count: usize,
+}
+
+impl TryFrom<RawShard> for Shard {
+    type Error = String;
+
+    fn try_from(r: RawShard) -> Result<Self, String> {
+        Shard::new(r.index, r.count)
+    }
+}
+
 impl Shard {
+    /// Shard `index` of `count`.
+    ///
+    /// # Errors
+    /// Unless `1 ≤ index ≤ count`.
+    pub fn new(index: usize, count: usize) -> Result<Self, String> {
+        if index == 0 || count == 0 || index > count {
+            return Err(format!("{index}/{count} is not I/N with 1 <= I <= N"));
+        }
+        Ok(Shard { index, count })
+    }
+
     /// Whether this shard computes cell `cell`.
     #[must_use]
     pub fn owns(&self, cell: usize) -> bool {
@@ -43,10 +70,7 @@ impl FromStr for Shard {
         let (i, n) = s.split_once('/').ok_or_else(bad)?;
         let index: usize = i.trim().parse().map_err(|_| bad())?;
         let count: usize = n.trim().parse().map_err(|_| bad())?;
-        if index == 0 || count == 0 || index > count {
-            return Err(bad());
-        }
-        Ok(Shard { index, count })
+        Shard::new(index, count).map_err(|_| bad())
     }
 }
 
@@ -65,5 +89,8 @@ mod tests {
             assert_eq!(shards.iter().filter(|s| s.owns(c)).count(), 1);
         }
         assert_eq!(Shard { index: 2, count: 3 }.to_string(), "2/3");
+        // A stored shard is checked when it is read back.
+        let bad: Result<Shard, _> = serde_json::from_str(r#"{"index":0,"count":0}"#);
+        assert!(bad.unwrap_err().to_string().contains("not I/N"));
     }
 }

@@ -93,6 +93,34 @@ pub struct StateDir {
     _lock: File,
 }
 
+/// The manifest's file name in a state folder.
+const MANIFEST: &str = "manifest.json";
+
+/// `STATE/cells/NNNNNN.bin`: cell `index` of the state folder `state`.
+#[must_use]
+pub fn cell_file(state: &Path, index: usize) -> PathBuf {
+    state.join("cells").join(format!("{index:06}.bin"))
+}
+
+/// The manifest of the state folder `state` as JSON, if there is one (read
+/// without taking the folder's lock).
+///
+/// # Errors
+/// If it exists but cannot be read or parsed.
+pub fn read_manifest_at(state: &Path) -> Result<Option<Value>, String> {
+    let p = state.join(MANIFEST);
+    match fs::read(&p) {
+        Ok(bytes) => serde_json::from_slice(&bytes).map(Some).map_err(|e| {
+            format!(
+                "{}: not a manifest ({e}); use --fresh to start over",
+                p.display()
+            )
+        }),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("cannot read {}: {e}", p.display())),
+    }
+}
+
 /// `OUT.state` next to `out` (a trailing `/` of `out` is ignored).
 #[must_use]
 pub fn state_path(out: &Path) -> PathBuf {
@@ -161,7 +189,7 @@ impl StateDir {
     /// # Errors
     /// If a file cannot be removed.
     pub fn clear(&self) -> Result<(), String> {
-        let m = self.path.join("manifest.json");
+        let m = self.path.join(MANIFEST);
         if m.exists() {
             fs::remove_file(&m).map_err(|e| format!("cannot remove {}: {e}", m.display()))?;
         }
@@ -177,17 +205,7 @@ impl StateDir {
     /// # Errors
     /// If it exists but cannot be read or parsed.
     pub fn read_manifest(&self) -> Result<Option<Value>, String> {
-        let p = self.path.join("manifest.json");
-        match fs::read(&p) {
-            Ok(bytes) => serde_json::from_slice(&bytes).map(Some).map_err(|e| {
-                format!(
-                    "{}: not a manifest ({e}); use --fresh to start over",
-                    p.display()
-                )
-            }),
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-            Err(e) => Err(format!("cannot read {}: {e}", p.display())),
-        }
+        read_manifest_at(&self.path)
     }
 
     /// Writes the manifest atomically.
@@ -196,14 +214,14 @@ impl StateDir {
     /// On an I/O error.
     pub fn write_manifest<C: Serialize>(&self, m: &Manifest<C>) -> Result<(), String> {
         let mut g = FileGroup::new();
-        g.add_bytes(self.path.join("manifest.json"), &io::json(m)?)?;
+        g.add_bytes(self.path.join(MANIFEST), &io::json(m)?)?;
         g.commit()
     }
 
     /// `cells/NNNNNN.bin`.
     #[must_use]
     pub fn cell_path(&self, index: usize) -> PathBuf {
-        self.path.join("cells").join(format!("{index:06}.bin"))
+        cell_file(&self.path, index)
     }
 
     /// Indices of the cell files present, ascending.
@@ -259,12 +277,13 @@ impl StateDir {
         g.commit()
     }
 
-    /// Copies a cell file from another state folder (merging shards).
+    /// Copies a cell file from another state folder (merging shards), like
+    /// [`StateDir::write_cell`] renamed into place but not forced to disk.
     ///
     /// # Errors
     /// On an I/O error.
     pub fn write_cell_bytes(&self, index: usize, bytes: &[u8]) -> Result<(), String> {
-        let mut g = FileGroup::new();
+        let mut g = FileGroup::volatile();
         g.add_bytes(self.cell_path(index), bytes)?;
         g.commit()
     }
