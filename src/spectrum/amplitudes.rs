@@ -101,7 +101,7 @@ pub trait AmplitudeView<const D: usize> {
         if self.count() == 0 {
             return Err(SpectrumError::Empty);
         }
-        g.ring_counts(count)?;
+        check_len("counts", count.len(), g.half_width() + 1)?;
         radial_into(g, mean, count, |add| for_each_power(self, add));
         Ok(())
     }

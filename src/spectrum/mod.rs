@@ -338,7 +338,8 @@ impl<const D: usize> Grid<D> {
 
 /// `round(√m)` for an integer `m`, exactly: the `r` with `r² − r < m ≤ r² + r`.
 fn ring_of(m: u64) -> u64 {
-    let mut r = libm::round(libm::sqrt(m as f64)) as u64;
+    // A first guess (the cast truncates √m + ½); the loops make it exact.
+    let mut r = (libm::sqrt(m as f64) + 0.5) as u64;
     while r > 0 && m <= r * r - r {
         r -= 1;
     }
@@ -621,7 +622,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// [`SpectrumError::Length`].
     pub fn radial_average(&self, mean: &mut [f64], count: &mut [u64]) -> Result<(), SpectrumError> {
         check_len("mean", mean.len(), self.grid.k + 1)?;
-        self.grid.ring_counts(count)?;
+        check_len("counts", count.len(), self.grid.k + 1)?;
         radial_into(self.grid, mean, count, |add| {
             for i in 0..self.grid.len() {
                 add(i, self.mean_at(i));
@@ -778,22 +779,27 @@ impl<const D: usize> Grid<D> {
 }
 
 /// Ring means of a per-cell quantity (shared by periodograms and single
-/// realisations): `values` passes `(index, value)` for the cells in index
+/// realisations): `values` passes `(index, value)` for every cell in index
 /// order; `mean[r]` is the sum of multiplicity × value over the cells of ring
-/// `r`, divided by `count[r]` (which already holds the ring counts).
+/// `r`, divided by `count[r]`, the number of full-grid frequencies of the ring
+/// (as [`Grid::ring_counts`]), counted in the same pass so that every cell's
+/// ring is classified once.
 fn radial_into<const D: usize>(
     grid: Grid<D>,
     mean: &mut [f64],
-    count: &[u64],
+    count: &mut [u64],
     values: impl FnOnce(&mut dyn FnMut(usize, f64)),
 ) {
     mean.fill(0.0);
+    count.fill(0);
     values(&mut |i, v| {
         if let Some(r) = grid.ring(i) {
-            mean[r] += f64::from(grid.multiplicity(i)) * v;
+            let m = grid.multiplicity(i);
+            mean[r] += f64::from(m) * v;
+            count[r] += u64::from(m);
         }
     });
-    for (m, &c) in mean.iter_mut().zip(count) {
+    for (m, &c) in mean.iter_mut().zip(count.iter()) {
         if c > 0 {
             *m /= c as f64;
         }
