@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
 use serde::{Deserialize, Serialize};
 
+use crate::experiments::paper::{self, Mode};
 use crate::experiments::{convergence, gallery, patterns, spectrum};
 use crate::integrand::IntegrandKind;
 use crate::runner::{RunOptions, Shard, MAX_THREADS};
@@ -61,6 +62,29 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Reproduce the convergence analysis of Singh, Miller & Jarosz (EGSR
+    /// 2017) on this machine and write an HTML report (OUT/index.html).
+    ///
+    /// Runs, as the cells of one resumable run: (1) rate tables for points
+    /// and unidirectional lines (samplers random, jittered, poisson-disk, ccvt,
+    /// multi-jittered, sobol x gaussian (best case) and disk/ball (worst
+    /// case) x 2D, 3D), each measured slope with its 95 % interval against the
+    /// theoretical rate; (2) points, segments (lengths 0.001 to 1) and lines in
+    /// 3D (the segment cross-over); (3) lines in K = 1, 2, 3 direction groups
+    /// and in random directions; (4) Poisson-disk line offsets; (5) lines
+    /// crossing and parallel to a straight edge with a randomised edge
+    /// position, and the fixed-edge pitfall; (6) expected power spectra of
+    /// every sampler and of the integrands; (7) what accuracy costs in time:
+    /// RMSE against time per estimate, the time to reach a relative error,
+    /// f32 SIMD against f64 closed forms, and the NUFFT tolerance sweep.
+    /// Every homogenised curve has the spectral variance prediction beside
+    /// the measurement where the pattern's periodogram is measured (see the
+    /// report). --mode quick (the default) takes a few minutes on two cores;
+    /// --full is publication quality (up to about an hour on two cores, or
+    /// sharded with --shard and merge); --mode reduced is a small end-to-end
+    /// check.
+    #[command(after_long_help = paper::report::FORMATS)]
+    Paper(PaperArgs),
     /// Write one pattern as PREFIX.txt (points) and PREFIX.svg (plot).
     #[command(after_long_help = patterns::FORMATS)]
     Patterns(PatternsArgs),
@@ -476,6 +500,26 @@ pub struct IntegrandArgs {
     pub offset: Option<f64>,
 }
 
+/// Options of `linesample-lab paper`.
+#[derive(Debug, Args)]
+pub struct PaperArgs {
+    /// Output folder [default: out/paper]; its state is kept in OUT.state/.
+    #[arg(long, value_name = "OUT")]
+    pub out: Option<PathBuf>,
+
+    /// Publication quality: more N and more realisations (same as --mode full).
+    #[arg(long)]
+    pub full: bool,
+
+    /// quick (default), full, or reduced (a small end-to-end check of every
+    /// output; its verdicts use fewer realisations).
+    #[arg(long, value_enum, value_name = "MODE")]
+    pub mode: Option<Mode>,
+
+    #[command(flatten)]
+    pub run: RunArgs,
+}
+
 /// Options of `linesample-lab convergence`.
 #[derive(Debug, Args)]
 #[command(
@@ -581,6 +625,7 @@ pub fn parse_grid(s: &str) -> Result<(usize, usize), String> {
 /// The command's error message.
 pub fn dispatch(cli: Cli) -> Result<(), String> {
     match cli.command {
+        Some(Command::Paper(a)) => paper::main(&a),
         Some(Command::Patterns(a)) => patterns::main(&a),
         Some(Command::Gallery(a)) => gallery::main(&a),
         Some(Command::Spectrum(a)) => spectrum::main(&a),

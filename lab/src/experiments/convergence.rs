@@ -745,26 +745,12 @@ impl Convergence {
     pub fn results(&self, cells: &[Cell]) -> Result<Results, String> {
         let cfg = &self.config;
         let exact = with_dims!(domain cfg.dims(), exact_integral(cfg))?;
-        let mut rows = Vec::with_capacity(cells.len());
-        for (row, cell) in cfg.rows.iter().zip(cells) {
-            let mut st = RunningStats::new();
-            let mut busy = 0.0;
-            for c in &cell.chunks {
-                let part = RunningStats::from_parts(c.n, c.moments)
-                    .map_err(|e| format!("N = {}: stored chunk statistics: {e}", row.n))?;
-                st.merge(&part);
-                busy += c.seconds;
-            }
-            rows.push(RowResult {
-                row: *row,
-                mean: st.mean(),
-                mean_se: st.mean_std_error(),
-                variance: st.variance(),
-                variance_se: st.variance_std_error(),
-                bias_z: bias_z(st.mean(), exact, st.mean_std_error()),
-                us_per_realisation: busy * 1e6 / cfg.realisations as f64,
-            });
-        }
+        let rows = cfg
+            .rows
+            .iter()
+            .zip(cells)
+            .map(|(row, cell)| row_result(row, cell, exact, cfg.realisations))
+            .collect::<Result<Vec<_>, _>>()?;
         let data: Vec<(f64, f64, f64)> = rows
             .iter()
             .map(|r| (r.row.n as f64, r.variance, r.variance_se))
@@ -775,6 +761,36 @@ impl Convergence {
             fit: fit_loglog(&data),
         })
     }
+}
+
+/// One row's result: its chunk statistics merged in chunk order, the bias
+/// z-score against `exact`, and the summed chunk time per realisation.
+///
+/// # Errors
+/// If a stored chunk is invalid.
+pub fn row_result(
+    row: &Row,
+    cell: &Cell,
+    exact: f64,
+    realisations: u64,
+) -> Result<RowResult, String> {
+    let mut st = RunningStats::new();
+    let mut busy = 0.0;
+    for c in &cell.chunks {
+        let part = RunningStats::from_parts(c.n, c.moments)
+            .map_err(|e| format!("N = {}: stored chunk statistics: {e}", row.n))?;
+        st.merge(&part);
+        busy += c.seconds;
+    }
+    Ok(RowResult {
+        row: *row,
+        mean: st.mean(),
+        mean_se: st.mean_std_error(),
+        variance: st.variance(),
+        variance_se: st.variance_std_error(),
+        bias_z: bias_z(st.mean(), exact, st.mean_std_error()),
+        us_per_realisation: busy * 1e6 / realisations as f64,
+    })
 }
 
 fn exact_integral<const D: usize, const E: usize>(cfg: &Config) -> Result<f64, String> {

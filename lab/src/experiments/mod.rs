@@ -4,6 +4,7 @@
 
 pub mod convergence;
 pub mod gallery;
+pub mod paper;
 pub mod patterns;
 pub mod spectrum;
 
@@ -147,6 +148,7 @@ pub fn merge(a: &MergeArgs) -> Result<(), String> {
         convergence::KIND => convergence::merge(a, config),
         spectrum::KIND => spectrum::merge(a, config),
         gallery::KIND => gallery::merge(a, config),
+        paper::KIND => paper::merge(a, config),
         other => Err(format!(
             "{}: experiment '{other}' cannot be merged by this lab version",
             first.display()

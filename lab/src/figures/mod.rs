@@ -4,6 +4,7 @@
 //! an experiment computed and returns the file's bytes.
 
 pub mod image;
+pub mod multi;
 mod plot;
 mod scatter;
 

@@ -6,7 +6,7 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Size of every line plot, in SVG pixels.
 const SIZE: (u32, u32) = (800, 580);
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 const DATA: RGBColor = RGBColor(31, 78, 153);
 const BAND: RGBColor = RGBColor(157, 183, 224);
 const FIT: RGBColor = RGBColor(192, 57, 43);
@@ -64,7 +64,7 @@ fn drawable(x: f64, y: f64) -> bool {
 }
 
 /// `[floor(min), ceil(max)]` of the finite values, at least one decade wide.
-fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);
@@ -81,7 +81,7 @@ fn decades(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Tick label of a log axis: `1e-5` at decades, `{:e}` elsewhere.
-fn log_label(v: &f64) -> String {
+pub(crate) fn log_label(v: &f64) -> String {
     let l = v.log10();
     if (l - l.round()).abs() < 1e-9 {
         format!("1e{}", l.round() as i32)
@@ -91,7 +91,7 @@ fn log_label(v: &f64) -> String {
 }
 
 /// The title block: a title and a grey subtitle, returning the area below.
-fn titled<'a>(
+pub(crate) fn titled<'a>(
     root: &DrawingArea<SVGBackend<'a>, Shift>,
     title: &str,
     subtitle: &str,
@@ -116,7 +116,7 @@ fn titled<'a>(
 }
 
 /// The shared chart frame: margins and label areas.
-fn builder<'a, 'b>(
+pub(crate) fn builder<'a, 'b>(
     area: &'a DrawingArea<SVGBackend<'b>, Shift>,
 ) -> ChartBuilder<'a, 'b, SVGBackend<'b>> {
     let mut b = ChartBuilder::on(area);

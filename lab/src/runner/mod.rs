@@ -76,6 +76,14 @@ pub trait Experiment: Sync {
     /// timings inside a cell are not disturbed by other cells.
     const PARALLEL_CELLS: bool = true;
 
+    /// Whether cell `index` must run alone: after every other cell, one
+    /// exclusive cell at a time (each may still use the whole pool inside), so
+    /// that the timings it measures are not disturbed by other cells.
+    fn exclusive(&self, index: usize) -> bool {
+        let _ = index;
+        false
+    }
+
     /// The configuration.
     fn config(&self) -> &Self::Config;
     /// The cells, in order.
@@ -279,7 +287,7 @@ pub fn run<E: Experiment>(
         progress.cell_done();
         Ok(stored)
     };
-    let computed = pool.install(|| each_cell::<E, _>(&todo, one));
+    let computed = pool.install(|| each_cell(exp, &todo, one));
     progress.finish();
     let computed = match computed {
         Ok(c) => c,
@@ -466,19 +474,39 @@ pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::
         progress: &progress,
     };
     let all: Vec<usize> = (0..exp.cells().len()).collect();
-    pool.install(|| each_cell::<E, _>(&all, |i| exp.run_cell(i, &ctx)))
+    pool.install(|| each_cell(exp, &all, |i| exp.run_cell(i, &ctx)))
 }
 
-/// `f` on every cell of `indices`, in parallel unless `E` asks for its cells
-/// one after another; the results in the order of `indices` (the first error,
-/// if any). Call it inside the pool.
+/// `f` on every cell of `indices`: the shared cells in parallel (unless `E`
+/// asks for its cells one after another), then the exclusive ones
+/// ([`Experiment::exclusive`]) one at a time; the results in the order of
+/// `indices` (the first error, if any). Call it inside the pool.
 fn each_cell<E: Experiment, T: Send>(
+    exp: &E,
     indices: &[usize],
     f: impl Fn(usize) -> Result<T, String> + Sync + Send,
 ) -> Result<Vec<T>, String> {
-    if E::PARALLEL_CELLS {
-        indices.par_iter().map(|&i| f(i)).collect()
+    let (alone, shared): (Vec<usize>, Vec<usize>) =
+        indices.iter().partition(|&&i| exp.exclusive(i));
+    let mut done: Vec<(usize, T)> = if E::PARALLEL_CELLS {
+        shared
+            .par_iter()
+            .map(|&i| f(i).map(|t| (i, t)))
+            .collect::<Result<_, _>>()?
     } else {
-        indices.iter().map(|&i| f(i)).collect()
+        shared
+            .iter()
+            .map(|&i| f(i).map(|t| (i, t)))
+            .collect::<Result<_, _>>()?
+    };
+    for i in alone {
+        done.push((i, f(i)?));
     }
+    let mut out: Vec<Option<T>> = indices.iter().map(|_| None).collect();
+    for (i, t) in done {
+        if let Some(pos) = indices.iter().position(|&x| x == i) {
+            out[pos] = Some(t);
+        }
+    }
+    Ok(out.into_iter().flatten().collect())
 }

@@ -1,0 +1,239 @@
+//! `linesample-lab paper --mode reduced` end to end: the files at their
+//! fixed names with their columns, the numbers in them, resuming, and bad
+//! input.
+//!
+//! False alarms (the seed is fixed, so each run is deterministic; these are
+//! the probabilities over seeds that a correct lab fails): a rate row is
+//! "consistent" unless the slope is off by more than 1.96 SE + 0.1; at the
+//! reduced run's R = 512 the slope SEs are at most 0.035, so a correct row
+//! fails with probability below P(|Z| > 1.96 + 0.1/0.035) ≈ 2e-6, times
+//! three rows checked. A prediction row agrees unless |z| exceeds the
+//! Bonferroni bound at family-wise α = 0.01 (or it misses 5 % where the SEs
+//! resolve 5 %): at most 1 %. Suite-wide: below 1.1 %.
+
+mod common;
+
+use std::fs;
+
+use common::{csv_table, fails_with, lab, ok, stdout, TempDir};
+
+const RATES: [&str; 13] = [
+    "table",
+    "dims",
+    "primitive",
+    "sampler",
+    "integrand",
+    "theory_slope",
+    "log_factor",
+    "n_min",
+    "n_max",
+    "measured_slope",
+    "slope_ci_low",
+    "slope_ci_high",
+    "verdict",
+];
+const PREDICTION: [&str; 10] = [
+    "case",
+    "dims",
+    "primitive",
+    "sampler",
+    "integrand",
+    "n",
+    "predicted",
+    "predicted_se",
+    "measured",
+    "measured_se",
+];
+const COST: [&str; 8] = [
+    "integrand",
+    "dims",
+    "primitive",
+    "sampler",
+    "n",
+    "rmse",
+    "seconds_per_estimate",
+    "evaluations_per_estimate",
+];
+
+fn col(header: &[String], name: &str) -> usize {
+    header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"))
+}
+
+fn num(s: &str) -> f64 {
+    s.parse().unwrap_or_else(|_| panic!("not a number: {s:?}"))
+}
+
+/// The rates.csv row of a 2D rate-table curve.
+fn rate<'a>(
+    header: &[String],
+    rows: &'a [Vec<String>],
+    primitive: &str,
+    sampler: &str,
+    integrand: &str,
+) -> &'a [String] {
+    rows.iter()
+        .find(|r| {
+            r[col(header, "table")] == "rates"
+                && r[col(header, "dims")] == "2"
+                && r[col(header, "primitive")] == primitive
+                && r[col(header, "sampler")] == sampler
+                && r[col(header, "integrand")] == integrand
+        })
+        .unwrap_or_else(|| panic!("no rates row {primitive} {sampler} {integrand}"))
+}
+
+#[test]
+fn reduced_paper_end_to_end() {
+    let dir = TempDir::new("paper");
+    let o = lab(
+        &dir,
+        &["paper", "--mode", "reduced", "--out", "p", "--quiet"],
+    );
+    ok(&o, "paper --mode reduced");
+    let out = dir.path().join("p");
+    for f in [
+        "index.html",
+        "rates.csv",
+        "prediction.csv",
+        "cost.csv",
+        "manifest.json",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+
+    // rates.csv: the columns, in order, then the numbers.
+    let (_, h, rows) = csv_table(&out.join("rates.csv"));
+    assert_eq!(&h[..RATES.len()], RATES);
+    let within = |r: &[String], theory: f64| {
+        let (lo, hi) = (
+            num(&r[col(&h, "slope_ci_low")]),
+            num(&r[col(&h, "slope_ci_high")]),
+        );
+        assert!(
+            lo <= theory && theory <= hi,
+            "{theory} not in [{lo}, {hi}]: {r:?}"
+        );
+    };
+    let random = rate(&h, &rows, "points", "random", "disk");
+    within(random, -1.0);
+    assert_eq!(random[col(&h, "verdict")], "consistent");
+    let jit = rate(&h, &rows, "points", "jittered", "disk");
+    within(jit, -1.5);
+    assert_eq!(jit[col(&h, "theory_slope")], "-1.5e0");
+    assert_eq!(jit[col(&h, "verdict")], "consistent");
+    let lines = rate(&h, &rows, "lines", "jittered", "disk");
+    assert!(
+        num(&lines[col(&h, "slope_ci_high")]) < -2.5,
+        "jittered lines not faster than -2.5: {lines:?}"
+    );
+    assert_eq!(lines[col(&h, "log_factor")], "log N");
+    // The straight edge: crossing N^-3, parallel N^-2, the fixed edge flagged.
+    let edge: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "edge").collect();
+    assert_eq!(edge.len(), 3, "{edge:?}");
+    assert!(edge
+        .iter()
+        .any(|r| r[col(&h, "verdict")] == "pitfall (not homogenised)"));
+    for r in &edge[..2] {
+        assert_eq!(r[col(&h, "verdict")], "consistent", "{r:?}");
+    }
+
+    // prediction.csv: every predicted row agrees (the rule is in the file).
+    let (comments, h, rows) = csv_table(&out.join("prediction.csv"));
+    assert_eq!(&h[..PREDICTION.len()], PREDICTION);
+    assert!(comments[0].contains("Bonferroni"), "{comments:?}");
+    assert!(rows.len() >= 20, "only {} predicted rows", rows.len());
+    for r in &rows {
+        let rel = num(&r[col(&h, "rel_diff")]);
+        assert_eq!(r[col(&h, "agrees")], "true", "{r:?}");
+        if r[col(&h, "resolves_5pc")] == "true" {
+            assert!(rel.abs() <= 0.05, "{r:?}");
+        }
+        assert!(num(&r[col(&h, "predicted")]) > 0.0);
+    }
+    // Both primitives and both integrands are predicted.
+    for (p, i) in [
+        ("points", "disk"),
+        ("lines", "disk"),
+        ("points", "gaussian"),
+    ] {
+        assert!(
+            rows.iter()
+                .any(|r| r[col(&h, "primitive")] == p && r[col(&h, "integrand")] == i),
+            "no prediction for {p} {i}"
+        );
+    }
+
+    // cost.csv: one row per N of every non-edge curve; evaluations = N.
+    let (_, h, rows) = csv_table(&out.join("cost.csv"));
+    assert_eq!(&h[..COST.len()], COST);
+    assert!(rows.len() >= 8 * 4, "{} cost rows", rows.len());
+    for r in &rows {
+        assert_eq!(r[col(&h, "n")], r[col(&h, "evaluations_per_estimate")]);
+        assert!(num(&r[col(&h, "seconds_per_estimate")]) > 0.0);
+        assert!(num(&r[col(&h, "rmse")]) > 0.0);
+    }
+
+    // The report links every figure and table it shows, and they exist.
+    let html = fs::read_to_string(out.join("index.html")).unwrap();
+    assert!(
+        html.contains("random toroidal shift"),
+        "homogenisation not stated"
+    );
+    let mut links = 0;
+    for part in html
+        .split("src=\"")
+        .skip(1)
+        .chain(html.split("href=\"").skip(1))
+    {
+        let target = &part[..part.find('"').unwrap()];
+        if target.starts_with('#') {
+            continue;
+        }
+        assert!(!target.contains("://"), "external link {target}");
+        assert!(out.join(target).is_file(), "{target} linked but missing");
+        links += 1;
+    }
+    assert!(links > 15, "{links} links");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["experiment"], "paper");
+    assert_eq!(manifest["config"]["mode"], "reduced");
+
+    // A rerun resumes every cell and writes the same tables.
+    let before = fs::read(out.join("rates.csv")).unwrap();
+    let o = lab(&dir, &["paper", "--mode", "reduced", "--out", "p"]);
+    ok(&o, "rerun");
+    assert!(
+        stdout(&o).contains("already done, computing 0"),
+        "{}",
+        stdout(&o)
+    );
+    assert_eq!(fs::read(out.join("rates.csv")).unwrap(), before);
+}
+
+#[test]
+fn bad_input_is_one_line_and_writes_nothing() {
+    let dir = TempDir::new("paper-bad");
+    let o = lab(&dir, &["paper", "--mode", "slow"]);
+    assert!(!o.status.success());
+    let o = lab(&dir, &["paper", "--shift", "none", "--out", "p"]);
+    fails_with(&o, "--shift", "--shift none");
+    let o = lab(
+        &dir,
+        &["paper", "--full", "--mode", "reduced", "--out", "p"],
+    );
+    fails_with(&o, "--full and --mode", "--full --mode reduced");
+    fs::write(dir.path().join("f"), b"x").unwrap();
+    let o = lab(&dir, &["paper", "--mode", "reduced", "--out", "f"]);
+    fails_with(&o, "--out f", "--out a file");
+    // A parent that is a file: the run cannot create its state folder.
+    let o = lab(
+        &dir,
+        &["paper", "--mode", "reduced", "--out", "f/p", "--quiet"],
+    );
+    fails_with(&o, "f/p", "--out under a file");
+    assert_eq!(dir.files(), vec![std::path::PathBuf::from("f")]);
+}
