@@ -130,6 +130,7 @@ fn reduced_paper_end_to_end() {
         "jittered lines not faster than -2.5: {lines:?}"
     );
     assert_eq!(lines[col(&h, "log_factor")], "log N");
+    assert_eq!(lines[col(&h, "verdict")], "consistent", "{lines:?}");
     // The straight edge: crossing N^-3, parallel N^-2, the fixed edge flagged.
     let edge: Vec<&Vec<String>> = rows.iter().filter(|r| r[0] == "edge").collect();
     assert_eq!(edge.len(), 3, "{edge:?}");
@@ -139,6 +140,39 @@ fn reduced_paper_end_to_end() {
     for r in &edge[..2] {
         assert_eq!(r[col(&h, "verdict")], "consistent", "{r:?}");
     }
+    // Exact checks per N (1D jitter, one stratum straddles the edge): a fixed
+    // edge at h has Var·N² = q(1 − q), q = frac(h·N); an edge uniform per
+    // realisation averages it to 1/6. Within 4.5 SE at every N (13 N per
+    // curve: false alarm below 2e-4 per curve).
+    let (_, ch, crows) = csv_table(&out.join("curves.csv"));
+    let golden = (5f64.sqrt() - 1.0) / 2.0;
+    let mut seen = [0, 0];
+    for r in &crows {
+        let n = num(&r[col(&ch, "n")]);
+        let (v, se) = (
+            num(&r[col(&ch, "variance")]),
+            num(&r[col(&ch, "variance_se")]),
+        );
+        let want = match r[col(&ch, "curve")].as_str() {
+            "edge-2d-lines-parallel-jittered" => {
+                seen[0] += 1;
+                1.0 / 6.0
+            }
+            "edge-2d-lines-parallel-fixed-jittered" => {
+                seen[1] += 1;
+                let q = (golden * n).fract();
+                q * (1.0 - q)
+            }
+            _ => continue,
+        };
+        assert!(
+            (v * n * n - want).abs() <= 4.5 * se * n * n,
+            "N = {n}: Var·N² = {} ± {}, expected {want}",
+            v * n * n,
+            se * n * n
+        );
+    }
+    assert!(seen[0] >= 8 && seen[1] >= 8, "{seen:?}");
 
     // prediction.csv: every predicted row agrees (the rule is in the file).
     let (comments, h, rows) = csv_table(&out.join("prediction.csv"));
@@ -236,4 +270,34 @@ fn bad_input_is_one_line_and_writes_nothing() {
     );
     fails_with(&o, "f/p", "--out under a file");
     assert_eq!(dir.files(), vec![std::path::PathBuf::from("f")]);
+}
+
+#[test]
+fn sharded_paper_merges_to_the_same_tables() {
+    let dir = TempDir::new("paper-shards");
+    let args = ["paper", "--mode", "reduced", "--quiet"];
+    let one = lab(&dir, &[&args[..], &["--out", "one"]].concat());
+    ok(&one, "unsharded");
+    for i in 1..=2 {
+        let shard = format!("{i}/2");
+        let out = format!("s{i}");
+        let o = lab(
+            &dir,
+            &[&args[..], &["--shard", &shard, "--out", &out]].concat(),
+        );
+        ok(&o, &shard);
+        // A shard writes only its state, no report.
+        assert!(!dir.path().join(&out).join("index.html").exists());
+    }
+    let o = lab(&dir, &["merge", "--out", "merged", "s1", "s2", "--quiet"]);
+    ok(&o, "merge");
+    // Tables without timings are identical, byte for byte.
+    for f in ["rates.csv", "prediction.csv", "curves.csv"] {
+        assert_eq!(
+            fs::read(dir.path().join("one").join(f)).unwrap(),
+            fs::read(dir.path().join("merged").join(f)).unwrap(),
+            "{f}"
+        );
+    }
+    assert!(dir.path().join("merged/index.html").is_file());
 }

@@ -61,6 +61,11 @@ Output (OUT = --out, default out/paper):
   OUT/manifest.json   command, reproducing command, configuration (the whole plan
                       with its seeds), version, threads, wall time, time per cell.
 
+rates.csv, prediction.csv, curves.csv, directions.csv and the figure CSVs hold no
+measured times: they are byte-identical for any --threads and for a sharded run
+merged with `merge`. cost.csv, time-to-error.csv, simd.csv, nufft.csv and the
+report's timing sections measure this machine.
+
 Names are the lab's CLI names: samplers random, jittered, poisson-disk, ccvt,
 multi-jittered, sobol; integrands disk, ball, gaussian, edge; primitives points,
 segments, lines. Numbers use Rust's shortest round-trip formatting.
@@ -290,8 +295,6 @@ struct CurveCsv<'a> {
     variance_se: f64,
     predicted: String,
     predicted_se: String,
-    #[serde(serialize_with = "table::sci")]
-    us_per_estimate: f64,
 }
 
 fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Vec<u8>, String> {
@@ -310,7 +313,6 @@ fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Vec<u8>, S
                 variance_se: row.variance_se,
                 predicted: fmt_opt(p.map(|x| x.0)),
                 predicted_se: fmt_opt(p.map(|x| x.1)),
-                us_per_estimate: row.us_per_realisation,
             });
         }
     }
