@@ -245,6 +245,8 @@ struct Budget {
     sobol_step: usize,
     /// Largest N of CCVT per d′ = 2, 3.
     ccvt_max: [usize; 2],
+    /// Largest N of Poisson disk per d′ = 1, 2, 3.
+    poisson_max: [usize; 3],
     /// Periodogram realisations (cheap samplers; Poisson disk and CCVT a quarter).
     pred: u64,
 }
@@ -262,19 +264,21 @@ impl Budget {
                 max_n: [4096, 4096, 4096],
                 sobol_step: 1,
                 ccvt_max: [1024, 512],
+                poisson_max: [4096, 4096, 4096],
                 pred: 64,
             },
             Mode::Full => Budget {
-                cheap: 16384,
-                poisson: 1024,
-                ccvt: 512,
-                costly: 2048,
-                costly_2d: 16384,
+                cheap: 8192,
+                poisson: 512,
+                ccvt: 256,
+                costly: 1024,
+                costly_2d: 2048,
                 min_n: [16, 16, 8],
-                max_n: [65536, 16384, 32768],
+                max_n: [16384, 16384, 32768],
                 sobol_step: 1,
-                ccvt_max: [4096, 4096],
-                pred: 512,
+                ccvt_max: [4096, 1331],
+                poisson_max: [16384, 16384, 8192],
+                pred: 256,
             },
             Mode::Reduced => Budget {
                 cheap: 512,
@@ -286,6 +290,7 @@ impl Budget {
                 max_n: [1024, 1024, 512],
                 sobol_step: 2,
                 ccvt_max: [256, 64],
+                poisson_max: [1024, 1024, 512],
                 pred: 32,
             },
         }
@@ -312,6 +317,7 @@ impl Budget {
         let max = self.max_n[pattern_dims - 1];
         let max = match (s, pattern_dims) {
             (Sampler::Ccvt, 2 | 3) => max.min(self.ccvt_max[pattern_dims - 2]),
+            (Sampler::PoissonDisk, _) => max.min(self.poisson_max[pattern_dims - 1]),
             _ => max,
         };
         let min = self.min_n[pattern_dims - 1];

@@ -608,7 +608,7 @@ fn rate_table_html(cfg: &Config, rows: &[&RateRow], show_label: bool) -> String 
             t.map_or("–".into(), |t| format_exponent(t.beta)),
             t.map_or("–".into(), |t| format_exponent(t.alpha)),
             c.run.pattern_dims(),
-            t.map_or("–".into(), |t| esc(&t.rate())),
+            t.map_or("–".into(), |t| t.rate_html()),
             r.n_min,
             r.n_max,
             r.fit.map_or("–".into(), |f| format!(
@@ -1446,7 +1446,14 @@ fn section_cost(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String
     out.add("time-to-error.csv", &table::csv(&[], &trows)?)?;
     // Overtakes.
     if !res.overtakes.is_empty() {
-        h.push_str("<h3>Where lines overtake points</h3>\n<table><tr><th>integrand, sampler</th><th>line / point cost per primitive</th><th>verdict</th></tr>\n");
+        h.push_str(
+            "<h3>Where lines overtake points</h3>\n<p>Per integrand and sampler, the fitted \
+             error-against-time laws of points and lines compared at equal time per estimate; \
+             the cost ratio is the time of one estimate with N lines over one with N points at \
+             the largest common N (pattern generation included: 2D offsets for 3D lines can \
+             be cheaper to generate than 3D points).</p>\n<table><tr><th>integrand, \
+             sampler</th><th>line / point cost at equal N</th><th>verdict</th></tr>\n",
+        );
         for o in &res.overtakes {
             let c = &cfg.curves[o.points];
             let _ = writeln!(

@@ -690,9 +690,14 @@ fn overtakes(curves: &[Curve], costs: &[CostRow], tte: &[TimeToError]) -> Vec<Ov
             let text = if t <= lo {
                 format!(
                     "lines give the lower error at every common time measured ({} to {} per \
-                     estimate), though a line costs {:.1}x a point",
+                     estimate), {} {:.1}x a point",
                     secs(lo),
                     secs(hi),
+                    if cost_ratio >= 1.0 {
+                        "though a line costs"
+                    } else {
+                        "and a line costs only"
+                    },
                     cost_ratio
                 )
             } else if t <= hi {

@@ -155,6 +155,19 @@ impl Theory {
     }
 }
 
+impl Theory {
+    /// [`Theory::rate`] as HTML: `N<sup>−1.5</sup> log N`.
+    #[must_use]
+    pub fn rate_html(&self) -> String {
+        let s = format_slope(self.slope).replace('-', "−");
+        match self.log_power {
+            0 => format!("N<sup>{s}</sup>"),
+            1 => format!("N<sup>{s}</sup> log N"),
+            p => format!("N<sup>{s}</sup> (log N)<sup>{p}</sup>"),
+        }
+    }
+}
+
 /// A slope with at most 3 decimals and no trailing zeros (`-1.333`, `-2`).
 #[must_use]
 pub fn format_slope(s: f64) -> String {
