@@ -79,10 +79,13 @@ pub enum Command {
     /// f32 SIMD against f64 closed forms, and the NUFFT tolerance sweep.
     /// Every homogenised curve has the spectral variance prediction beside
     /// the measurement where the pattern's periodogram is measured (see the
-    /// report). --mode quick (the default) takes a few minutes on two cores;
-    /// --full is publication quality (up to about an hour on two cores, or
-    /// sharded with --shard and merge); --mode reduced is a small end-to-end
-    /// check.
+    /// report). Seeds: curve row N uses the rule of `convergence` (run seed
+    /// Seed::new(Seed::new(SEED).stream(N)), realisation r its
+    /// .realization(r)); predictions draw independent pattern realisations;
+    /// the straight edge draws its offset from each realisation's seed.
+    /// --mode quick (the default) takes about 3 minutes on two cores; --full
+    /// is publication quality (about 30 minutes on two cores, or sharded with
+    /// --shard and merge); --mode reduced is a small end-to-end check.
     #[command(after_long_help = paper::report::FORMATS)]
     Paper(PaperArgs),
     /// Write one pattern as PREFIX.txt (points) and PREFIX.svg (plot).
@@ -500,8 +503,10 @@ pub struct IntegrandArgs {
     pub offset: Option<f64>,
 }
 
-/// Options of `linesample-lab paper`.
+/// Options of `linesample-lab paper` (`--shift` is hidden: the paper
+/// homogenises every curve itself and refuses the option).
 #[derive(Debug, Args)]
+#[command(mut_arg("shift", |a| a.hide(true)))]
 pub struct PaperArgs {
     /// Output folder [default: out/paper]; its state is kept in OUT.state/.
     #[arg(long, value_name = "OUT")]
