@@ -4,7 +4,7 @@
 //! all appear, or none change.
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
 
 mod sections;
@@ -353,21 +353,6 @@ fn page(cfg: &Config, res: &Results, info: &RunInfo, reproduce: &str, body: &str
     }
     h.push_str("</ul>\n</body></html>\n");
     h
-}
-
-/// Paths of the fixed-name files (for tests and the help).
-#[must_use]
-pub fn fixed_files(out: &Path) -> Vec<PathBuf> {
-    [
-        "index.html",
-        "rates.csv",
-        "prediction.csv",
-        "cost.csv",
-        "manifest.json",
-    ]
-    .iter()
-    .map(|f| out.join(f))
-    .collect()
 }
 
 #[cfg(test)]
