@@ -229,3 +229,40 @@ fn converged_ccvt_sites_are_centroids_in_their_own_frame() {
         }
     }
 }
+
+/// Found by `integrand_gaussian`: a narrow Gaussian (σ = 3.05e−5) far from
+/// the origin and a ray from (528, 528) along the diagonal; `κ ≈ 4e9`, so the
+/// `f32` exponent is off by about 3.5 (a factor 33 on the value). The stated
+/// bound `P·(1e−6 + expm1(B))` covers it; its old linear form `P·(1e−6 + B)`
+/// did not.
+#[test]
+fn gaussian_f32_error_is_exponential_in_the_exponent_error() {
+    let g = Gaussian::<2>::new(
+        [127_984.000_244_141_98, 7.16e-322],
+        3.052_502_870_559_692_4e-5,
+    )
+    .unwrap();
+    let (o, d) = (
+        [528.062_74f32, 528.062_74],
+        [-0.707_106_77f32, -0.707_106_77],
+    );
+    let got = f64::from(g.segment_free_f32(o, d, -0.0, f32::INFINITY));
+    let o64 = o.map(f64::from);
+    let d64 = d.map(f64::from);
+    let nd = d64.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let dir = linesample::geom::Direction::new(d64).unwrap();
+    let want = g.segment_free(&o64, &dir, 0.0, f64::INFINITY) / nd;
+    let c = g.centre();
+    let s = g.sigma();
+    let w = dir.get();
+    let q = [o64[0] - c[0], o64[1] - c[1]];
+    let qq = q[0] * q[0] + q[1] * q[1];
+    let qd = q[0] * w[0] + q[1] * w[1];
+    let e = (qq - qd * qd).max(0.0) / (2.0 * s * s);
+    let tau = 2.0 * std::f64::consts::PI;
+    let p = (-e).exp() / (tau * s * s) * s * tau.sqrt() / nd;
+    let kappa = nd * qq.sqrt() / s;
+    let b = 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt());
+    let err = (got - want).abs();
+    assert!(err <= p * (1e-6 + b.exp_m1()), "{got:e} vs {want:e}");
+}

@@ -912,7 +912,7 @@ fn rays<const D: usize>(b: &Batch<D>) -> Rays32<'_, D> {
 }
 
 /// Error of the f32 path against f64 `segment_free`, in units of the stated
-/// bound `P·(1e−6 + 1e−6·E + 2e−7·κ·(1 + √(2E)))`.
+/// bound `P·(1e−6 + expm1(1e−6·E + 2e−7·κ·(1 + √(2E))))`.
 fn f32_err<const D: usize>(
     g: &Gaussian<D>,
     o: [f32; D],
@@ -933,7 +933,8 @@ fn f32_err<const D: usize>(
     let qd: f64 = (0..D).map(|j| q[j] * d64[j]).sum::<f64>() / nd;
     let rho2 = (qq - qd * qd).max(0.0);
     let e = rho2 / (2.0 * s * s);
-    let p = norm(D, s) * (-e).exp() * s * (2.0 * std::f64::consts::PI).sqrt() / nd;
+    // P·(1e−6 + expm1(B)) as pre·(e^{B−E} − (1 − 1e−6)·e^{−E}), `pre = P·e^E`.
+    let pre = norm(D, s) * s * (2.0 * std::f64::consts::PI).sqrt() / nd;
     let fin = |t: f32| {
         if t.is_finite() {
             f64::from(t).abs()
@@ -942,7 +943,8 @@ fn f32_err<const D: usize>(
         }
     };
     let kappa = nd * (qq.sqrt() + fin(t0) + fin(t1)) / s;
-    let bound = p * (1e-6 + 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt()));
+    let b = 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt());
+    let bound = pre * ((b - e).exp() - (1.0 - 1e-6) * (-e).exp());
     (f64::from(got) - want).abs() / bound
 }
 

@@ -17,7 +17,7 @@ mod common;
 use common::{check, fin, Probe, Ray32};
 
 /// The `f64` integral of the `f32` ray and the documented bound
-/// `P·(1e−6 + 1e−6·E + 2e−7·κ·(1 + √(2E)))` with the line's peak
+/// `P·(1e−6 + expm1(1e−6·E + 2e−7·κ·(1 + √(2E))))` with the line's peak
 /// `P = (2πσ²)^{−D/2} e^{−E} σ√(2π)/|d|`, `E = ρ²/2σ²`,
 /// `κ = |d|(|q| + |t0| + |t1|)/σ` (finite ends), `q = o − c`; plus the `f32`
 /// underflow: the `f32` exponential flushes to 0 below `e^{−87}`, an absolute
@@ -35,9 +35,12 @@ fn f32_ref<const D: usize>(g: &Gaussian<D>, r: &Ray32<D>) -> Option<(f64, f64)> 
     let rho2 = (qq - qd * qd).max(0.0);
     let e = rho2 / (2.0 * s * s);
     let (peak, _) = bounds(s, D as i32);
-    let p = peak * (-e).exp() * s * (2.0 * core::f64::consts::PI).sqrt() / nd;
+    // P·(1e−6 + expm1(B)) = pre·(e^{B−E} − (1 − 1e−6)·e^{−E}) with the prefactor
+    // `pre = P·e^E`: no 0·∞ when e^{−E} underflows and e^B overflows.
+    let pre = peak * s * (2.0 * core::f64::consts::PI).sqrt() / nd;
     let kappa = nd * (qq.sqrt() + fin(r.t0) + fin(r.t1)) / s;
-    let bound = p * (1e-6 + 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt()))
+    let b = 1e-6 * e + 2e-7 * kappa * (1.0 + (2.0 * e).sqrt());
+    let bound = pre * ((b - e).exp() - (1.0 - 1e-6) * (-e).exp())
         + 1.7e-38 * peak * s * (2.0 * core::f64::consts::PI).sqrt() / nd
         + 4.0 * f64::from(f32::MIN_POSITIVE);
     Some((want, bound))

@@ -631,10 +631,15 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
     /// Error bound against the exact integral (asserted in the tests): with
     /// the line's peak `P = (2πσ²)^{−D/2} e^{−ρ²/2σ²} σ√(2π)/|d|`,
     /// `E = ρ²/2σ²` and `κ = |d|(|q| + |t0| + |t1|)/σ` (finite ends only;
-    /// `q = o − c`), `|err| ≤ P·(1e−6 + 1e−6·E + 2e−7·κ·(1 + √(2E)))`: an
-    /// absolute bound relative to the peak that grows only with the `f32`
-    /// conditioning of the inputs (a tail segment whose exact value is far
-    /// below `P·1e−6` may come out as 0). The `f32` exponential flushes to 0
+    /// `q = o − c`), `|err| ≤ P·(1e−6 + expm1(B))` with
+    /// `B = 1e−6·E + 2e−7·κ·(1 + √(2E))`: `B` bounds the error of the `f32`
+    /// exponent `−E`, which the factor `e^{−E}` turns into a relative error of
+    /// at most `e^B − 1` (`≈ B` while `B` is small, the form this bound had
+    /// before the `integrand_gaussian` fuzz target found a 2D ray with
+    /// `σ = 3e−5` and `κ ≈ 4e9` whose exponent was off by 3.5, a factor 33 that
+    /// the linear form did not cover). An absolute bound relative to the peak
+    /// that grows only with the `f32` conditioning of the inputs (a tail
+    /// segment whose exact value is far below `P·1e−6` may come out as 0). The `f32` exponential flushes to 0
     /// below `e^{−87}`: a ray whose factor `e^{−E}` is below that gives 0, an
     /// absolute error of up to `1.7e−38·P·e^{E}` (`P·e^{E}` the prefactor
     /// without the exponential: for narrow Gaussians up to `≈ 1e−26`; found
