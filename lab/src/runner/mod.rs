@@ -510,3 +510,76 @@ fn each_cell<E: Experiment, T: Send>(
     }
     Ok(out.into_iter().flatten().collect())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::Mutex;
+
+    /// Five cells; cells 1 and 3 are exclusive; each records when it starts
+    /// and ends and how many cells were running at that moment.
+    struct Toy {
+        cells: Vec<CellInfo>,
+        log: Mutex<Vec<(usize, usize)>>,
+        running: Mutex<usize>,
+    }
+
+    impl Experiment for Toy {
+        type Config = u8;
+        type Cell = usize;
+        const KIND: &'static str = "toy";
+        const UNIT: &'static str = "units";
+
+        fn exclusive(&self, index: usize) -> bool {
+            index % 2 == 1 && index < 4
+        }
+
+        fn config(&self) -> &u8 {
+            &0
+        }
+
+        fn cells(&self) -> &[CellInfo] {
+            &self.cells
+        }
+
+        fn run_cell(&self, index: usize, _: &Ctx<'_>) -> Result<usize, String> {
+            let others = {
+                let mut r = self.running.lock().map_err(|e| e.to_string())?;
+                *r += 1;
+                *r - 1
+            };
+            std::thread::sleep(Duration::from_millis(20));
+            self.log
+                .lock()
+                .map_err(|e| e.to_string())?
+                .push((index, others));
+            *self.running.lock().map_err(|e| e.to_string())? -= 1;
+            Ok(index * 10)
+        }
+    }
+
+    #[test]
+    fn exclusive_cells_run_alone_after_the_others_and_results_keep_their_order() {
+        let toy = Toy {
+            cells: (0..5)
+                .map(|i| CellInfo {
+                    label: format!("{i}"),
+                    work: 1,
+                })
+                .collect(),
+            log: Mutex::new(Vec::new()),
+            running: Mutex::new(0),
+        };
+        let cells = compute(&toy, Some(4)).unwrap();
+        assert_eq!(cells, vec![0, 10, 20, 30, 40]);
+        let log = toy.log.into_inner().unwrap();
+        let order: Vec<usize> = log.iter().map(|x| x.0).collect();
+        // The three shared cells first (in any order), then 1 and 3 in order.
+        assert_eq!(&order[3..], &[1, 3], "{order:?}");
+        for &(i, others) in &log {
+            if i == 1 || i == 3 {
+                assert_eq!(others, 0, "exclusive cell {i} overlapped another");
+            }
+        }
+    }
+}
