@@ -84,7 +84,7 @@ pub enum Command {
     /// .realization(r)); predictions draw independent pattern realisations;
     /// the straight edge draws its offset from each realisation's seed.
     /// --mode quick (the default) takes about 3 minutes on two cores; --full
-    /// is publication quality (about 30 minutes on two cores, or sharded with
+    /// is publication quality (about 45 minutes on two cores, or sharded with
     /// --shard and merge); --mode reduced is a small end-to-end check.
     #[command(after_long_help = paper::report::FORMATS)]
     Paper(PaperArgs),
