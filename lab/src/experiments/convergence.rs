@@ -620,11 +620,6 @@ impl Convergence {
             .collect();
         Ok(Convergence { config, cells })
     }
-
-    fn chunks(&self) -> Result<usize, String> {
-        usize::try_from(self.config.realisations.div_ceil(CHUNK))
-            .map_err(|_| format!("--realisations {}: too many", self.config.realisations))
-    }
 }
 
 fn run_row<const D: usize, const K: usize>(
@@ -633,17 +628,14 @@ fn run_row<const D: usize, const K: usize>(
     ctx: &Ctx<'_>,
 ) -> Result<Cell, String> {
     let cfg = &exp.config;
-    let seed = Seed::new(Seed::new(cfg.seed).stream(row.n as u64));
+    let seed = row_seed(cfg.seed, row.n);
     // Pattern, integrand and directions once per row; each chunk borrows them
     // for its own estimator and scratch.
     let setup = Setup::<D, K>::new(cfg, row)?;
-    let chunks = ctx.map_ordered(exp.chunks()?, |c| {
-        let t = Instant::now();
+    run_chunks(ctx, cfg.realisations, |first, count| {
         let est = setup.estimator(cfg)?;
         let mut scratch = io::buffer::filled(est.scratch_len(), 0.0f32, "estimator scratch")?;
-        let first = c as u64 * CHUNK;
-        let count = CHUNK.min(cfg.realisations - first);
-        let st = run_realisations(
+        run_realisations(
             &*est,
             &*setup.f,
             seed,
@@ -664,7 +656,36 @@ fn run_row<const D: usize, const K: usize>(
                 row.n,
                 first + count
             )
-        })?;
+        })
+    })
+}
+
+/// The run seed of the row with N primitives:
+/// `Seed::new(Seed::new(seed).stream(N))` (realisation `r` uses its
+/// `.realization(r)`).
+#[must_use]
+pub fn row_seed(seed: u64, n: usize) -> Seed {
+    Seed::new(Seed::new(seed).stream(n as u64))
+}
+
+/// One row's cell: `realisations` split into chunks of [`CHUNK`], each run
+/// by `chunk(first, count)` on the pool (with its wall time) and returned in
+/// chunk order, so the merged statistics do not depend on the thread count.
+///
+/// # Errors
+/// The first error of `chunk`, or a realisation count too large to split.
+pub fn run_chunks(
+    ctx: &Ctx<'_>,
+    realisations: u64,
+    chunk: impl Fn(u64, u64) -> Result<RunningStats, String> + Sync + Send,
+) -> Result<Cell, String> {
+    let n_chunks = usize::try_from(realisations.div_ceil(CHUNK))
+        .map_err(|_| format!("--realisations {realisations}: too many"))?;
+    let chunks = ctx.map_ordered(n_chunks, |c| {
+        let t = Instant::now();
+        let first = c as u64 * CHUNK;
+        let count = CHUNK.min(realisations - first);
+        let st = chunk(first, count)?;
         ctx.advance(count);
         let (n, moments) = st.parts();
         Ok(ChunkStats {

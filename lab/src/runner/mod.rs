@@ -486,29 +486,24 @@ fn each_cell<E: Experiment, T: Send>(
     indices: &[usize],
     f: impl Fn(usize) -> Result<T, String> + Sync + Send,
 ) -> Result<Vec<T>, String> {
-    let (alone, shared): (Vec<usize>, Vec<usize>) =
-        indices.iter().partition(|&&i| exp.exclusive(i));
+    // (position in `indices`, cell index), split into exclusive and shared.
+    type Cells = Vec<(usize, usize)>;
+    let (alone, shared): (Cells, Cells) = indices
+        .iter()
+        .copied()
+        .enumerate()
+        .partition(|&(_, i)| exp.exclusive(i));
+    let run = |&(pos, i): &(usize, usize)| f(i).map(|t| (pos, t));
     let mut done: Vec<(usize, T)> = if E::PARALLEL_CELLS {
-        shared
-            .par_iter()
-            .map(|&i| f(i).map(|t| (i, t)))
-            .collect::<Result<_, _>>()?
+        shared.par_iter().map(run).collect::<Result<_, _>>()?
     } else {
-        shared
-            .iter()
-            .map(|&i| f(i).map(|t| (i, t)))
-            .collect::<Result<_, _>>()?
+        shared.iter().map(run).collect::<Result<_, _>>()?
     };
-    for i in alone {
-        done.push((i, f(i)?));
+    for cell in &alone {
+        done.push(run(cell)?);
     }
-    let mut out: Vec<Option<T>> = indices.iter().map(|_| None).collect();
-    for (i, t) in done {
-        if let Some(pos) = indices.iter().position(|&x| x == i) {
-            out[pos] = Some(t);
-        }
-    }
-    Ok(out.into_iter().flatten().collect())
+    done.sort_by_key(|d| d.0);
+    Ok(done.into_iter().map(|(_, t)| t).collect())
 }
 
 #[cfg(test)]

@@ -18,8 +18,6 @@ pub mod results;
 pub mod theory;
 pub mod timing;
 
-use std::time::Instant;
-
 use linesample::estimator::{Directions, Estimator, LineEstimator};
 use linesample::geom::Direction;
 use linesample::integrand::{HalfSpace, Integrand};
@@ -30,7 +28,7 @@ use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
 use crate::cli::{MergeArgs, PaperArgs, Primitive};
-use crate::experiments::convergence::{self, ChunkStats, Convergence, DirSpec, CHUNK};
+use crate::experiments::convergence::{self, Convergence, DirSpec};
 use crate::experiments::{config_from, merge_to_files, run_to_files};
 use crate::integrand::{to_array, IntegrandKind, Params};
 use crate::io::buffer;
@@ -293,7 +291,8 @@ pub fn edge_offset(curve: &Curve, seed: Seed, r: u64) -> f64 {
 /// `1[n·x ≥ h_r]` and records the error `I_N − ∫f` of the line estimator with
 /// the pattern as generated (no shift: the strata stay aligned with the
 /// domain, whose boundary is then not a discontinuity the estimator sees).
-/// Chunks of [`CHUNK`] realisations are merged in order, as in `convergence`.
+/// Seeds and chunks are those of `convergence` ([`convergence::row_seed`],
+/// [`convergence::run_chunks`]).
 fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cell, String> {
     let cfg = &curve.run;
     let row = cfg.rows[row];
@@ -307,16 +306,11 @@ fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cel
     let dir = Direction::<2>::new(to_array(d)).map_err(|e| format!("line direction: {e}"))?;
     let spec = pattern_spec(cfg.sampler, 1, row.per_group);
     let pattern = sampler::build::<1>(&spec, false)?.pattern;
-    let seed = Seed::new(Seed::new(cfg.seed).stream(row.n as u64));
-    let chunks = usize::try_from(cfg.realisations.div_ceil(CHUNK))
-        .map_err(|_| "too many realisations".to_string())?;
-    let chunks = ctx.map_ordered(chunks, |c| {
-        let t = Instant::now();
+    let seed = convergence::row_seed(cfg.seed, row.n);
+    convergence::run_chunks(ctx, cfg.realisations, |first, count| {
         let est = LineEstimator::<2, 1>::new(&*pattern, Directions::Fixed(dir))
             .map_err(|e| format!("{}: {e}", curve.id))?;
         let mut scratch = buffer::filled(est.scratch_len(), 0.0f32, "estimator scratch")?;
-        let first = c as u64 * CHUNK;
-        let count = CHUNK.min(cfg.realisations - first);
         let mut st = RunningStats::new();
         for r in first..first + count {
             let h = edge_offset(curve, seed, r);
@@ -326,15 +320,8 @@ fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cel
                 .map_err(|e| format!("{} N = {}, realisation {r}: {e}", curve.id, row.n))?;
             st.push(v - f.integral());
         }
-        ctx.advance(count);
-        let (n, moments) = st.parts();
-        Ok(ChunkStats {
-            n,
-            moments,
-            seconds: t.elapsed().as_secs_f64(),
-        })
-    })?;
-    Ok(convergence::Cell { chunks })
+        Ok(st)
+    })
 }
 
 /// The weights `w(ν) = multiplicity·p_f(ν)` of one predicted row on the

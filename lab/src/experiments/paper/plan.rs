@@ -354,14 +354,12 @@ fn prediction_grid(pattern_dims: usize, n: usize) -> Option<usize> {
     }
 }
 
+/// The default Gaussian, or disk/ball, of `dims` dimensions (the straight
+/// edge builds its own spec).
 fn spec(kind: IntegrandKind, dims: usize) -> IntegrandSpec {
     let params = match kind {
         IntegrandKind::Gaussian => Params::Gaussian {
             sigma: DEFAULT_SIGMA,
-        },
-        IntegrandKind::Edge => Params::Edge {
-            normal: vec![0.0; dims],
-            offset: 0.5,
         },
         _ => Params::Ball {
             radius: DEFAULT_RADIUS,

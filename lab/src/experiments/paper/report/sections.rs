@@ -25,6 +25,18 @@ use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEF
 use crate::io::table;
 use crate::sampler::Sampler;
 
+/// The samplers of `curves` in order of first appearance (one colour each).
+fn distinct_samplers(cfg: &Config, curves: impl Iterator<Item = usize>) -> Vec<Sampler> {
+    let mut v = Vec::new();
+    for ci in curves {
+        let s = cfg.curves[ci].run.sampler;
+        if !v.contains(&s) {
+            v.push(s);
+        }
+    }
+    v
+}
+
 pub(super) fn series_of(cfg: &Config, res: &Results, ci: usize, label: String) -> Series {
     let c = &cfg.curves[ci];
     let r = &res.curves[ci];
@@ -321,15 +333,7 @@ pub(super) fn scatter_figure(
     title: &str,
     rows: &[&RateRow],
 ) -> Result<String, String> {
-    let samplers: Vec<Sampler> =
-        rows.iter()
-            .map(|r| cfg.curves[r.curve].run.sampler)
-            .fold(Vec::new(), |mut v, s| {
-                if !v.contains(&s) {
-                    v.push(s);
-                }
-                v
-            });
+    let samplers = distinct_samplers(cfg, rows.iter().map(|r| r.curve));
     let pts: Vec<Labelled> = rows
         .iter()
         .filter_map(|r| {
@@ -1050,13 +1054,7 @@ pub(super) fn section_cost(
             if ids.is_empty() {
                 continue;
             }
-            let samplers: Vec<Sampler> = ids.iter().fold(Vec::new(), |mut v, &ci| {
-                let s = cfg.curves[ci].run.sampler;
-                if !v.contains(&s) {
-                    v.push(s);
-                }
-                v
-            });
+            let samplers = distinct_samplers(cfg, ids.iter().copied());
             let series: Vec<Series> = ids
                 .iter()
                 .map(|&ci| {
