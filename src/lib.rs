@@ -86,6 +86,7 @@ pub mod num;
 pub mod pattern;
 pub mod primitive;
 pub mod rng;
+pub mod sequence;
 pub mod special;
 pub mod spectrum;
 pub mod stats;

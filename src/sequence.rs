@@ -1,0 +1,1 @@
+//! Random-access sample sequences (placeholder; being written).
