@@ -90,6 +90,7 @@ pub mod sequence;
 pub mod special;
 pub mod spectrum;
 pub mod stats;
+pub mod world;
 
 pub use error::{EstimateError, ParamError, PatternError, SeedError, SpectrumError};
 pub use rng::{Pcg32, Seed};

@@ -20,13 +20,12 @@ use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::{clip_to_unit_box, for_each_piece, Direction};
 use crate::num::frac;
-use crate::num::lane::{load8, store8, F32Lane, LANES};
 use crate::num::Dd;
 use crate::num::{cis_turns, dot_turns, frac_centered, sinc_dd};
 use crate::primitive::{Line, Rays32, Segment};
-use crate::special::{erfcx, exp_neg_dd, gauss_mid};
-use core::f64::consts::{PI, SQRT_2, TAU};
-use wide::f32x8;
+use crate::special::exp_neg_dd;
+use crate::world::Gaussian as FreeGaussian;
+use core::f64::consts::{PI, TAU};
 
 const SIGMA_MIN: f64 = Gaussian::<2>::SIGMA_MIN;
 const SIGMA_MAX: f64 = Gaussian::<2>::SIGMA_MAX;
@@ -38,8 +37,6 @@ const TAIL: f64 = 45.0;
 
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
-/// `√π/2`.
-const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
 
 /// The normalised isotropic Gaussian density `(2πσ²)^{−D/2} e^{−|x−c|²/2σ²}`
 /// (`D` = 2 or 3), periodised on the unit torus.
@@ -65,11 +62,12 @@ pub struct Gaussian<const D: usize> {
     two_s2: Dd,
     /// `(2πσ²)^{−D/2}`.
     norm: f64,
-    /// `(2πσ²)^{−D/2} · σ√2` (the prefactor of `G`).
-    line_norm: f64,
     /// `2π²σ²` as a double-double.
     two_pi2_s2: Dd,
     max: f64,
+    /// The free-space Gaussian at the reduced centre (segment integrals and
+    /// the `f32` path).
+    free: FreeGaussian<D>,
 }
 
 impl<const D: usize> Gaussian<D> {
@@ -127,25 +125,15 @@ impl<const D: usize> Gaussian<D> {
             lo: 2.0 * pi2.lo,
         }
         .mul(s2);
-        // (2πσ²)^{−D/2} = σ^{−D} (2π)^{−D/2}.
-        let norm = if D == 2 {
-            1.0 / (TAU * sigma * sigma)
-        } else {
-            1.0 / (TAU * libm::sqrt(TAU) * (sigma * sigma * sigma))
-        };
-        let line_norm = if D == 2 {
-            SQRT_2 / (TAU * sigma)
-        } else {
-            SQRT_2 / (TAU * libm::sqrt(TAU) * (sigma * sigma))
-        };
+        let free = FreeGaussian::normalised(c, sigma)?;
         let mut g = Self {
             centre: c,
             sigma,
             two_s2,
-            norm,
-            line_norm,
+            norm: free.peak(),
             two_pi2_s2,
             max: 0.0,
+            free,
         };
         g.max = g.value(&c);
         Ok(g)
@@ -173,92 +161,6 @@ impl<const D: usize> Gaussian<D> {
     #[inline]
     fn over_two_s2(&self, x: Dd) -> Dd {
         Dd::div(x, self.two_s2)
-    }
-
-    /// The free-space integral along `q + tω` where `q = p − centre` is given
-    /// exactly as double-doubles; `t0 < t1`.
-    fn seg_core(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
-        let mut a = Dd::new(0.0);
-        let mut b = Dd::new(0.0);
-        for j in 0..D {
-            a = a.add(Dd::prod(w[j], w[j]));
-            b = b.add(q[j].mul(Dd::new(w[j])));
-        }
-        // |q × ω|² (Lagrange: a ρ² = |q|²a − b²).
-        let mut cr2 = Dd::new(0.0);
-        let pairs: &[(usize, usize)] = if D == 2 {
-            &[(0, 1)]
-        } else {
-            &[(1, 2), (2, 0), (0, 1)]
-        };
-        for &(i, k) in pairs {
-            let x = q[i].mul(Dd::new(w[k])).sub(q[k].mul(Dd::new(w[i])));
-            cr2 = cr2.add(x.mul(x));
-        }
-        let rho2 = Dd::div(cr2, a);
-        let tc = Dd::div(b, a).neg();
-        let sa = libm::sqrt(a.hi);
-        let inv = sa / (self.sigma * SQRT_2);
-        let mult = self.line_norm / sa;
-        let s0 = if t0 == f64::NEG_INFINITY {
-            Dd::new(t0)
-        } else {
-            Dd::new(t0).sub(tc)
-        };
-        let s1 = if t1 == f64::INFINITY {
-            Dd::new(t1)
-        } else {
-            Dd::new(t1).sub(tc)
-        };
-        let u0 = s0.to_f64() * inv;
-        let u1 = s1.to_f64() * inv;
-        if u0 < 0.0 && u1 > 0.0 {
-            // Straddles the foot point: no cancellation in erf + erf.
-            let g = SQRT_PI_HALF * (libm::erf(u1) + libm::erf(-u0));
-            let e = self.over_two_s2(rho2);
-            return exp_neg_dd(e, mult * g);
-        }
-        // Same sign: mirror so that 0 ≤ v0 < v1, near endpoint s_near.
-        let (v0, v1, s_near) = if u1 <= 0.0 {
-            (-u1, -u0, s1)
-        } else {
-            (u0, u1, s0)
-        };
-        if v0 > 40.0 {
-            // The whole segment is more than 40 scaled units beyond the foot
-            // point: the value is below e^{−1600}·(prefactor ≤ 1e12), i.e. 0 in
-            // f64. Returning early also avoids overflowing squares for huge
-            // parameters (found by fuzzing: |t| ≈ 1e217 gave NaN).
-            return 0.0;
-        }
-        let dv = (t1 - t0) * inv; // v1 − v0, relative error of a few ulp
-        let delta = dv * (v1 + v0); // v1² − v0²
-        if delta >= 1.0 {
-            // Long: G = (√π/2) e^{−v0²} [erfcx(v0) − e^{−(v1²−v0²)} erfcx(v1)],
-            // cancellation at most 1/(1 − e^{−1}) ≈ 1.6.
-            let tail = if v1 == f64::INFINITY {
-                0.0
-            } else {
-                libm::exp(-delta) * erfcx(v1)
-            };
-            let g = SQRT_PI_HALF * (erfcx(v0) - tail);
-            // Exponent: (ρ² + a s_near²)/2σ² = squared distance of the near
-            // endpoint from the centre over 2σ², in double-double.
-            let e = self.over_two_s2(rho2.add(a.mul(s_near.mul(s_near))));
-            exp_neg_dd(e, mult * g)
-        } else {
-            // Short: around the midpoint m with half-width h (|m|h ≤ 1/4, h ≤ 1/2).
-            let sm = s0.add(s1);
-            let sm = Dd {
-                hi: 0.5 * sm.hi,
-                lo: 0.5 * sm.lo,
-            };
-            let m = sm.to_f64() * inv;
-            let h = 0.5 * dv;
-            let g = gauss_mid(m, h);
-            let e = self.over_two_s2(rho2.add(a.mul(sm.mul(sm))));
-            exp_neg_dd(e, mult * g)
-        }
     }
 
     /// `x_j − c_j` reduced to about `[−1/2, 1/2]`, in double-double.
@@ -429,7 +331,7 @@ impl<const D: usize> Gaussian<D> {
                 for j in 0..D {
                     qm[j] = q[j].sub(Dd::new(m[j] as f64));
                 }
-                sum += self.seg_core(&qm, w, t0, t1);
+                sum += self.free.segment_offset(&qm, w, t0, t1);
             }
             let mut j = 0;
             loop {
@@ -459,112 +361,6 @@ impl<const D: usize> Gaussian<D> {
         }
         d
     }
-
-    /// The constants of the `f32` kernel.
-    fn consts32(&self) -> Consts32<D> {
-        let mut c_hi = [0.0f32; D];
-        let mut c_lo = [0.0f32; D];
-        for j in 0..D {
-            c_hi[j] = self.centre[j] as f32;
-            c_lo[j] = (self.centre[j] - f64::from(c_hi[j])) as f32;
-        }
-        Consts32 {
-            c_hi,
-            c_lo,
-            inv_s2: (1.0 / (self.sigma * SQRT_2)) as f32,
-            inv_2s2: (1.0 / self.two_s2.hi) as f32,
-            k: (self.line_norm * SQRT_PI_HALF) as f32,
-        }
-    }
-}
-
-/// Per-integrand constants of the `f32` kernel.
-#[derive(Clone, Copy)]
-struct Consts32<const D: usize> {
-    c_hi: [f32; D],
-    c_lo: [f32; D],
-    /// `1/(σ√2)`.
-    inv_s2: f32,
-    /// `1/(2σ²)`.
-    inv_2s2: f32,
-    /// `(2πσ²)^{−D/2} σ√2 · √π/2`; the integral is `k/√a · e^{−ρ²/2σ²} (erf(u1) − erf(u0))`.
-    k: f32,
-}
-
-/// `e^{x}` for `x ≤ 0` (`0` below `−87`): `2^n · p(r)` with `n = ⌊x log₂e + ½⌋`,
-/// `r = x − n ln 2` (Cody–Waite two-part `ln 2`), `p` the degree-7 Taylor
-/// polynomial (|r| ≤ 0.35: truncation ≤ 6e−9), Horner without FMA. Relative
-/// error ≤ 3e−7.
-#[inline(always)]
-fn exp_neg32<L: F32Lane>(x: L) -> L {
-    let under = x.lt(L::splat(-87.0));
-    let xc = x.max(L::splat(-87.0));
-    let n = (xc * L::splat(core::f32::consts::LOG2_E) + L::splat(0.5)).floor();
-    let r = (xc - n * L::splat(0.693_359_375)) - n * L::splat(-2.121_944_4e-4);
-    let mut p = L::splat(1.0 / 5040.0);
-    p = p * r + L::splat(1.0 / 720.0);
-    p = p * r + L::splat(1.0 / 120.0);
-    p = p * r + L::splat(1.0 / 24.0);
-    p = p * r + L::splat(1.0 / 6.0);
-    p = p * r + L::splat(0.5);
-    p = p * r + L::splat(1.0);
-    p = p * r + L::splat(1.0);
-    L::select(under, L::splat(0.0), p * L::pow2i(n))
-}
-
-/// `erf(x)` in `f32`: `1 − e^{−x²}·P(t)`, `t = 1/(1 + 0.4|x|)`, odd extension,
-/// where the degree-6 polynomial `P ≈ erfcx` was fitted for this crate by
-/// iteratively reweighted least squares on the absolute error of `erf` over
-/// `t ∈ (0, 1]` (the form of Abramowitz & Stegun 7.1.25–28, own coefficients).
-/// Absolute error ≤ 1.2e−8 in exact arithmetic, ≤ 3e−7 with `f32` rounding
-/// (measured). `±∞ ↦ ±1`.
-#[inline(always)]
-fn erf32<L: F32Lane>(x: L) -> L {
-    let ax = x.abs();
-    let t = L::splat(1.0) / (L::splat(1.0) + L::splat(0.4) * ax);
-    let mut p = L::splat(-0.179_589_42);
-    p = p * t + L::splat(0.607_486_67);
-    p = p * t + L::splat(-0.163_771_06);
-    p = p * t + L::splat(0.244_526_97);
-    p = p * t + L::splat(0.296_928_97);
-    p = p * t + L::splat(0.188_693_33);
-    p = p * t + L::splat(0.005_724_541);
-    let e = exp_neg32(-(ax * ax));
-    let y = L::splat(1.0) - p * e;
-    L::select(x.lt(L::splat(0.0)), -y, y)
-}
-
-/// The one `f32` kernel behind [`Integrand::segment_free_f32`] and the batch.
-#[inline(always)]
-fn kernel32<L: F32Lane, const D: usize>(k: &Consts32<D>, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
-    let mut q = [L::splat(0.0); D];
-    for j in 0..D {
-        q[j] = (o[j] - L::splat(k.c_hi[j])) - L::splat(k.c_lo[j]);
-    }
-    let mut a = L::splat(0.0);
-    let mut b = L::splat(0.0);
-    for j in 0..D {
-        a = a + d[j] * d[j];
-        b = b + q[j] * d[j];
-    }
-    let cr2 = if D == 2 {
-        let x = q[0] * d[1] - q[1] * d[0];
-        x * x
-    } else {
-        let x = q[1] * d[2] - q[2] * d[1];
-        let y = q[2] * d[0] - q[0] * d[2];
-        let z = q[0] * d[1] - q[1] * d[0];
-        x * x + y * y + z * z
-    };
-    let rho2 = cr2 / a;
-    let tc = -(b / a);
-    let sa = a.sqrt();
-    let inv = sa * L::splat(k.inv_s2);
-    let u0 = (t0 - tc) * inv;
-    let u1 = (t1 - tc) * inv;
-    let g = erf32(u1) - erf32(u0);
-    let e = exp_neg32(-(rho2 * L::splat(k.inv_2s2)));
-    (L::splat(k.k) / sa) * e * g
 }
 
 impl<const D: usize> Integrand<D> for Gaussian<D> {
@@ -604,20 +400,8 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
     /// `1`). Below the normal range the result degrades gracefully into
     /// subnormals and 0.
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64 {
-        if t0.is_nan() || t1.is_nan() {
-            return f64::NAN;
-        }
-        if t0 == t1 {
-            return 0.0;
-        }
-        if t0 > t1 {
-            return -self.segment_free(p, dir, t1, t0);
-        }
-        let mut q = [Dd::new(0.0); D];
-        for j in 0..D {
-            q[j] = Dd::diff(p[j], self.centre[j]);
-        }
-        self.seg_core(&q, &dir.get(), t0, t1)
+        let q: [Dd; D] = core::array::from_fn(|j| Dd::diff(p[j], self.centre[j]));
+        self.free.segment_signed(&q, &dir.get(), t0, t1)
     }
 
     /// `f32` twin of the batch: `∫_{t0}^{t1} F(o + t·d) dt` (the parameter is
@@ -650,7 +434,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
     /// `t0 > t1` gives the negated integral; NaN inputs or `d = 0` give an
     /// unspecified value (NaN or finite).
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        kernel32::<f32, D>(&self.consts32(), o, d, t0, t1)
+        self.free.segment_f32(o, d, t0, t1)
     }
 
     fn segment_free_batch_f32(
@@ -658,31 +442,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let n = rays.check(out.len())?;
-        let k = self.consts32();
-        let mut i = 0;
-        while i + LANES <= n {
-            let mut o = [f32x8::splat(0.0); D];
-            let mut d = [f32x8::splat(0.0); D];
-            for j in 0..D {
-                o[j] = load8(rays.origin[j], i);
-                d[j] = load8(rays.dir[j], i);
-            }
-            let r = kernel32::<f32x8, D>(&k, o, d, load8(rays.t0, i), load8(rays.t1, i));
-            store8(out, i, r);
-            i += LANES;
-        }
-        while i < n {
-            let mut o = [0.0f32; D];
-            let mut d = [0.0f32; D];
-            for j in 0..D {
-                o[j] = rays.origin[j][i];
-                d[j] = rays.dir[j][i];
-            }
-            out[i] = kernel32::<f32, D>(&k, o, d, rays.t0[i], rays.t1[i]);
-            i += 1;
-        }
-        Ok(())
+        self.free.segment_batch_f32(rays, out)
     }
 
     /// The periodised value, a product of 1D periodised Gaussians.
@@ -842,43 +602,5 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             q[j] = Dd::diff(p[j], self.centre[j]);
         }
         self.piece_images(&q, &w, t0, t1)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn kernels_agree_scalar_simd() {
-        let g = Gaussian::<2>::new([0.3, 0.6], 0.05).unwrap();
-        let k = g.consts32();
-        let xs = [-3.0f32, -0.7, -0.1, 0.0, 0.2, 1.3, 2.5, f32::INFINITY];
-        let v = kernel32::<f32x8, 2>(
-            &k,
-            [f32x8::from([0.1; 8]), f32x8::from([0.5; 8])],
-            [f32x8::from([0.6; 8]), f32x8::from([0.8; 8])],
-            f32x8::from([-1.0; 8]),
-            f32x8::from(xs),
-        )
-        .to_array();
-        for l in 0..8 {
-            let s = kernel32::<f32, 2>(&k, [0.1, 0.5], [0.6, 0.8], -1.0, xs[l]);
-            assert_eq!(s.to_bits(), v[l].to_bits());
-        }
-    }
-
-    #[test]
-    fn exp_erf_f32() {
-        for i in 0..2000 {
-            let x = -87.0 + 87.0 * i as f64 / 2000.0;
-            let e = f64::from(exp_neg32(x as f32));
-            let r = libm::exp(f64::from(x as f32));
-            assert!(((e - r) / r).abs() < 3e-7, "{x} {e} {r}");
-            let x = -6.0 + 12.0 * i as f64 / 2000.0;
-            let e = f64::from(erf32(x as f32));
-            let r = libm::erf(f64::from(x as f32));
-            assert!((e - r).abs() < 3e-7, "{x} {e} {r}");
-        }
     }
 }

@@ -55,6 +55,7 @@ use crate::geom::{for_each_piece, Direction};
 use crate::num::lane::{load8, store8, F32Lane, LANES};
 use crate::num::{cis_turns, frac, Dd};
 use crate::primitive::{Rays32, Segment};
+use crate::world::plane;
 use wide::f32x8;
 
 /// `1[n·x ≥ h] · 1[x ∈ [0, 1)^D]`, periodised as `F(frac(x))`: a straight edge
@@ -161,14 +162,10 @@ impl<const D: usize> HalfSpace<D> {
         self.offset
     }
 
-    /// `n·x − h` in double-double (exact products, ≈ 2⁻¹⁰⁴-relative sums).
+    /// `n·x − h` in double-double ([`crate::world::HalfSpace`]'s excess).
     #[inline]
     fn excess(&self, x: &[f64; D]) -> Dd {
-        let mut g = Dd::new(-self.offset);
-        for j in 0..D {
-            g = g.add(Dd::prod(self.n[j], x[j]));
-        }
-        g
+        plane::excess(&self.n, self.offset, x)
     }
 
     /// Length of `[t0, t1] ∩ {t : n·(p + tω) ≥ h}`, with the box slabs applied
@@ -207,30 +204,11 @@ impl<const D: usize> HalfSpace<D> {
     /// double-double quotient, the length one rounding of `hi − lo` (the
     /// leading parts where an end is infinite); 0 if empty.
     fn edge_clip(&self, g: Dd, w: &[f64; D], mut lo: Dd, mut hi: Dd) -> f64 {
-        let mut c = Dd::new(0.0);
-        for j in 0..D {
-            c = c.add(Dd::prod(self.n[j], w[j]));
+        // The world-space half-space's interval (one closed form per shape).
+        if !plane::keep_side(g, plane::slope(&self.n, w), &mut lo, &mut hi) {
+            return 0.0;
         }
-        if c.hi == 0.0 {
-            if g.hi < 0.0 {
-                return 0.0;
-            }
-        } else {
-            let ts = Dd::div(g.neg(), c);
-            if c.hi > 0.0 {
-                if Dd::lt(lo, ts) {
-                    lo = ts;
-                }
-            } else if Dd::lt(ts, hi) {
-                hi = ts;
-            }
-        }
-        let len = if lo.hi.is_finite() && hi.hi.is_finite() {
-            hi.sub(lo).hi
-        } else {
-            hi.hi - lo.hi
-        };
-        len.max(0.0)
+        plane::length(lo, hi)
     }
 
     /// The boxed [`HalfSpace::clip`] for an origin `p` given as double-doubles

@@ -1,0 +1,569 @@
+//! The sphere (3D) or disk (2D) `|x − c| < r`: [`Sphere`].
+//!
+//! # Numerics
+//!
+//! The segment integral is a chord length. For `q = p − c` and `a = |ω|²` the
+//! line `p + tω` meets the sphere where `a t² + 2(q·ω) t + |q|² − r² = 0`, i.e.
+//! `t± = (−b ± √Δ)/a` with `b = q·ω`, `Δ = b² − a(|q|² − r²)`, and the chord is
+//! `2√Δ/a`. In `f64` the subtraction in `Δ` cancels catastrophically for tangent
+//! and grazing lines (`Δ → 0` while `b²` and `a|q|²` stay of order `|q|²`), so
+//! [`Sphere::segment`] evaluates `Δ` in double-double ([`crate::num::dd`]):
+//!
+//! 1. `q = p − c` exactly (`Dd::diff`);
+//! 2. the origin is moved along the line to (nearly) the foot of the
+//!    perpendicular, `q' = q + τω` with `τ ≈ −b/a` a double (`Dd::prod` is exact
+//!    and the accurate double-double addition has a relative error `≤ 3u²` of
+//!    its result, `u = 2⁻⁵³`), so that `|q'| ≈ dist(c, line)`; the step is
+//!    repeated while the remaining offset along the line exceeds `2²⁶r` (a
+//!    point given far along the line);
+//! 3. `Δ = b'² − a(|q'|² − r²)` in double-double, where now the only
+//!    cancellation is `|q'|²` against `r²`, harmless at `2⁻¹⁰⁴` precision;
+//! 4. `√Δ` is rounded once more by a Newton step, and `t± = τ − b'/a ± √Δ/a`;
+//! 5. an end `e ∈ {t0, t1}` within rounding distance of the chord is never
+//!    subtracted from a rounded root: the quadratic is re-based at it,
+//!    `a s² + 2b_e s + c_e = 0` for `s = t − e`, with `q_e = q + eω`,
+//!    `b_e = q_e·ω` in double-double and `c_e = |q_e|² − r²` summed exactly
+//!    from error-free products in four-fold precision
+//!    ([`crate::num::sum_accurate`]; it cancels to about `h·L` against `r²`),
+//!    and its roots taken from the cancellation-free pair
+//!    `s₁ = −(b_e + sign(b_e)√Δ)/a`, `s₂ = c_e/(a s₁)`, so a root next to the
+//!    end (`c_e → 0`) keeps its relative accuracy. The clipped length is then
+//!    one such quantity: `t1 − t0` (both ends inside), `t+ − t0` (exits inside),
+//!    `t1 − t−` (enters inside) or `2h` (whole chord), never a difference of
+//!    two rounded parameters.
+//!
+//! The result is the exact chord of the given `f64` inputs up to a **relative**
+//! error of a few ulp (about `3u + 2⁻¹⁰⁴/(1 − d/r)` for a line at distance `d`
+//! from the centre, i.e. a few ulp down to `1 − d/r ≈ 10⁻³⁰`) when the segment
+//! ends do not cut the chord. When they do, the relative error is at most
+//! `8u + 2⁻¹⁰⁰·(r/h + r²/h²)` for half chord `h`, **whatever the clipped
+//! length** `L`: `≤ 1e−13` for segments of any length that straddle, end at
+//! or lie next to the boundary, unless the line is within `h < 10⁻⁸r` of
+//! tangency (the `r/h` term is the double-double conditioning of `b_e`, the
+//! `r²/h²` term that of a near-tangent whole chord `2h`). A segment whose ends
+//! are inside by more than `2⁻¹⁰⁰r²/h` has length exactly `fl(t1 − t0)`.
+//! (Tested against exact dyadic arithmetic over radii `10⁻¹⁰⁰ … 1/2`, lengths
+//! down to `10⁻¹⁵·2r`, straddling, ending at, starting at, inside and grazing,
+//! in 2D and 3D: measured `≤ 3.3e−16` relative in every case.) Any finite
+//! `p` is accepted (the repeated re-basing reaches the foot from as far as
+//! `10³⁰⁸`), and `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so the squares
+//! formed near the foot neither overflow nor underflow.
+//!
+//! The `f32` batch path ([`Sphere::segment_batch_f32`], one kernel generic
+//! over the crate's `f32` lane type) uses the plain formula in `f32` with a
+//! perpendicular decomposition (`d² = |q − (q·ω/a)ω|²`, `h² = (r² − d²)/a`):
+//! see its docs for the error.
+// `!(x > y)` is deliberate below: it also catches NaN (overflowing inputs).
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::{check_dim, check_finite, check_range, Ray};
+use crate::error::ParamError;
+use crate::num::lane::{load8, store8, F32Lane, LANES};
+use crate::num::{sum_accurate, two_prod, Dd};
+use crate::primitive::Rays32;
+use core::f64::consts::PI;
+use wide::f32x8;
+
+/// Unit roundoff `u = 2⁻⁵³`.
+const EPS: f64 = f64::EPSILON / 2.0;
+
+/// `2⁻⁴⁰`: below `2⁻⁴⁰·a·r²` the double-double discriminant is recomputed
+/// from the exact constant term (see `chord`).
+const TWO_M40: f64 = 9.094947017729282e-13;
+
+/// `2⁻⁹⁶` (the conditioning margin of the clipped chord, see `chord`).
+const TWO_M96: f64 = f64::from_bits((1023 - 96) << 52);
+
+/// The open sphere (`D = 3`) or disk (`D = 2`) `{x : |x − c| < r}` in free
+/// space: any finite centre, radius `10⁻¹⁰⁰ ≤ r ≤ 10¹⁰⁰`.
+///
+/// The `f64` methods take a [`Ray`]; they are exact for the given `f64` inputs
+/// up to the relative errors stated on each (see the [module docs](self) for
+/// the algorithm). The `f32` methods take the ray as given (any non-zero `d`,
+/// parameter in units of `|d|`) and use the centre and radius rounded to
+/// `f32`.
+///
+/// ```
+/// use linesample::world::{Ray, Sphere};
+/// let s = Sphere::new([1e6, 0.0, 0.0], 1e-3)?;
+/// // A ray from the origin grazing the sphere 1e-12 inside its rim:
+/// let ray = Ray::new([0.0, 1e-3 - 1e-12, 0.0], [1.0, 0.0, 0.0])?;
+/// let chord = s.chord(&ray);
+/// let exact = 2.0 * (2e-3 * 1e-12 - 1e-24f64).sqrt();
+/// assert!((chord - exact).abs() <= 1e-6 * exact); // (1e-12 is not a double)
+/// # Ok::<(), linesample::ParamError>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<const D: usize> {
+    centre: [f64; D],
+    radius: f64,
+    /// `r²` exactly.
+    r2: Dd,
+    /// The centre rounded to `f32`.
+    centre32: [f32; D],
+    /// `fl32(r32 · r32)`.
+    r2_32: f32,
+}
+
+impl<const D: usize> Sphere<D> {
+    /// Smallest accepted radius, `10⁻¹⁰⁰`: below about `10⁻¹⁵⁰` the squared
+    /// quantities of the double-double chord underflow (found by fuzzing: a
+    /// chord of a `10⁻¹⁵⁹` ball exceeded its diameter by `1.4e−7` relative).
+    pub const RADIUS_MIN: f64 = 1e-100;
+    /// Largest accepted radius, `10¹⁰⁰` (squares of distances up to a few
+    /// radii stay far from overflow).
+    pub const RADIUS_MAX: f64 = 1e100;
+
+    /// The sphere of radius `radius` centred at `centre`.
+    ///
+    /// # Errors
+    /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
+    /// (`centre`, `radius`); [`ParamError::OutOfRange`] (`radius`) unless
+    /// [`Sphere::RADIUS_MIN`] `≤ r ≤` [`Sphere::RADIUS_MAX`].
+    pub fn new(centre: [f64; D], radius: f64) -> Result<Self, ParamError> {
+        check_dim::<D>()?;
+        check_finite("centre", &centre)?;
+        let radius = check_range("radius", radius, Self::RADIUS_MIN, Self::RADIUS_MAX)?;
+        let r32 = radius as f32;
+        Ok(Self {
+            centre,
+            radius,
+            r2: Dd::prod(radius, radius),
+            centre32: centre.map(|c| c as f32),
+            r2_32: r32 * r32,
+        })
+    }
+
+    /// The centre `c`.
+    #[inline]
+    #[must_use]
+    pub fn centre(&self) -> [f64; D] {
+        self.centre
+    }
+
+    /// The radius `r`.
+    #[inline]
+    #[must_use]
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// `r²` as an exact double-double.
+    #[inline]
+    pub(crate) fn r2(&self) -> Dd {
+        self.r2
+    }
+
+    /// Area `πr²` (2D) or volume `4πr³/3` (3D) (may overflow to `∞` for
+    /// `r ≳ 10¹⁰²/³` in 3D… never for the accepted radii in 2D).
+    #[must_use]
+    pub fn measure(&self) -> f64 {
+        let r = self.radius;
+        if D == 2 {
+            PI * r * r
+        } else {
+            4.0 / 3.0 * PI * r * r * r
+        }
+    }
+
+    /// `|x − c| < r`, decided exactly (double-double; a finite `x` that makes
+    /// the squares overflow is outside).
+    #[must_use]
+    pub fn contains(&self, x: &[f64; D]) -> bool {
+        let mut s = Dd::new(0.0);
+        for j in 0..D {
+            let q = Dd::diff(x[j], self.centre[j]);
+            s = s.add(q.mul(q));
+        }
+        let d = s.sub(self.r2);
+        d.hi < 0.0 || (d.hi == 0.0 && d.lo < 0.0)
+    }
+
+    /// `q = o − c` exactly.
+    #[inline]
+    fn offset(&self, o: &[f64; D]) -> [Dd; D] {
+        core::array::from_fn(|j| Dd::diff(o[j], self.centre[j]))
+    }
+
+    /// The entry and exit parameters `t− < t+` where the ray's line crosses the
+    /// sphere (negative when behind the origin), or `None` if the line misses
+    /// the open sphere (a tangent line misses it).
+    ///
+    /// The discriminant is that of the chord (double-double, re-based at the
+    /// foot of the perpendicular); the roots are the cancellation-free pair
+    /// `−(b + sign(b)√Δ)/a` and `c/(a·that)` of the quadratic at the origin,
+    /// with `c = |o − c|² − r²` summed exactly, so a root next to the origin
+    /// (a ray leaving the surface) keeps its relative accuracy. Error: a few
+    /// ulp relative for each root (measured `≤ 2.2e−16·4`, see the tests),
+    /// except within about `2⁻¹⁰⁰` relative of tangency. An origin so far away
+    /// that `|o − c|²` overflows (`≳ 10¹⁵⁴`) gives the roots as `t_m ± h`
+    /// (midpoint and half chord), then still relatively accurate since both
+    /// roots are then far from 0.
+    #[must_use]
+    pub fn hit(&self, ray: &Ray<D>) -> Option<(f64, f64)> {
+        let q = self.offset(&ray.origin());
+        let w = ray.dir().get();
+        let f = foot(&q, &w, norm2(&w), self.r2)?;
+        let (sm, sp) = rebased_roots(&q, &w, self.r2, f.af, f.sd, 0.0);
+        if sm.is_finite() && sp.is_finite() && sm <= sp {
+            Some((sm, sp))
+        } else {
+            Some((f.tm - f.h, f.tm + f.h))
+        }
+    }
+
+    /// The chord length of the ray's whole line, `2√Δ/a`: relative error of a
+    /// few ulp (about `3u + 2⁻¹⁰⁴/(1 − d/r)` for a line at distance `d` from
+    /// the centre), 0 for a miss.
+    #[must_use]
+    pub fn chord(&self, ray: &Ray<D>) -> f64 {
+        self.segment(ray, f64::NEG_INFINITY, f64::INFINITY)
+    }
+
+    /// `∫_{t0}^{t1} 1[|o + tω − c| < r] dt`: the chord clipped to `[t0, t1]`
+    /// (either end may be infinite). Relative error a few ulp for an unclipped
+    /// chord; `≤ 8u + 2⁻¹⁰⁰·(r/h + r²/h²)` (`h` the half chord) when an end
+    /// clips it, **whatever the clipped length**: `≤ 1e−13` for segments of any
+    /// length ending at, starting at or straddling the boundary unless the line
+    /// is within `h < 10⁻⁸r` of tangency (see the module docs).
+    ///
+    /// Bad input (no panic): `t0 > t1` gives 0; a NaN end is unbounded on its
+    /// side.
+    #[must_use]
+    pub fn segment(&self, ray: &Ray<D>, t0: f64, t1: f64) -> f64 {
+        self.segment_offset(&self.offset(&ray.origin()), &ray.dir().get(), t0, t1)
+    }
+
+    /// [`Sphere::segment`] for the origin's offset `q = o − c` given exactly in
+    /// double-double and any finite non-zero direction `w` (not necessarily
+    /// unit; the parameter is in units of `|w|`).
+    #[inline]
+    pub(crate) fn segment_offset(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+        chord(q, w, norm2(w), self.r2, t0, t1)
+    }
+
+    /// The `f32` chord kernel shared by the scalar twin and the SIMD batch.
+    #[inline(always)]
+    fn chord_lanes<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        let zero = L::splat(0.0);
+        let mut q = [zero; D];
+        for j in 0..D {
+            q[j] = o[j] - L::splat(self.centre32[j]);
+        }
+        let mut a = d[0] * d[0];
+        let mut b = q[0] * d[0];
+        for j in 1..D {
+            a = a + d[j] * d[j];
+            b = b + q[j] * d[j];
+        }
+        let inv_a = L::splat(1.0) / a;
+        let tm = -(b * inv_a);
+        // Squared distance from the centre to the line, from the perpendicular
+        // component (no cancellation of |q|² against (q·ω)²/a).
+        let mut p2 = zero;
+        for j in 0..D {
+            let e = q[j] + tm * d[j];
+            p2 = p2 + e * e;
+        }
+        let h2 = (L::splat(self.r2_32) - p2) * inv_a;
+        let h = h2.max(zero).sqrt();
+        let lo = t0.max(tm - h);
+        let hi = t1.min(tm + h);
+        (hi - lo).max(zero)
+    }
+
+    /// `f32` chord clipped to `[t0, t1]` along `o + t·d` (the scalar twin of
+    /// [`Sphere::segment_batch_f32`]): `q = o − c₃₂`, `a = |d|²`,
+    /// `t_m = −(q·d)·(1/a)`, `h² = (r₃₂² − |q + t_m d|²)·(1/a)`, result
+    /// `max(0, min(t1, t_m + h) − max(t0, t_m − h))` (one division, one square
+    /// root, no FMA).
+    ///
+    /// Error against the exact chord of the `f32` inputs (centre and radius
+    /// rounded to `f32`), for `|d| = 1` and `L = |o − c₃₂|`: the distance `d⊥`
+    /// from the centre to the line is computed to a few `ε₃₂·L` absolute
+    /// (`ε₃₂ = 2⁻²³`), so `h²` is off by about `δ = ε₃₂·(L·r + r²)` and the
+    /// chord by about `min(δ/h, 2√δ)`: absolute, in units of `r`, `≈ ε₃₂·L/r`
+    /// well inside (`h ≳ r`), growing to `≈ 2√(ε₃₂·L/r)` at tangency (the
+    /// square-root singularity of the chord at `d⊥ = r`); clipping adds
+    /// `≈ ε₃₂·(|t0| + |t1| + |t±|)`. The tests assert
+    /// `|err| ≤ 4·[min(δ/h, 2√δ) + ε₃₂(|t0| + |t1| + |t_m| + h)] + 4ε₃₂r` for
+    /// finite ends. Requires `r₃₂²` finite and normal (`10⁻¹⁹ ≲ r ≲ 10¹⁹`) and
+    /// `d ≠ 0`; bad input (no panic): `t0 > t1` gives 0, a NaN or infinite
+    /// origin gives 0, a NaN end is unbounded.
+    #[must_use]
+    pub fn segment_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
+        self.chord_lanes::<f32>(o, d, t0, t1)
+    }
+
+    /// SIMD batch (8 lanes) of [`Sphere::segment_f32`]: `out[i]` for ray `i`
+    /// (pass `t0 = −∞`, `t1 = ∞` for whole chords). Bit-identical to the scalar
+    /// twin, lane by lane; no allocation.
+    ///
+    /// # Errors
+    /// [`ParamError::Length`] if the slices differ in length.
+    pub fn segment_batch_f32(
+        &self,
+        rays: &Rays32<'_, D>,
+        out: &mut [f32],
+    ) -> Result<(), ParamError> {
+        let n = rays.check(out.len())?;
+        let mut i = 0;
+        while i + LANES <= n {
+            let o: [f32x8; D] = core::array::from_fn(|j| load8(rays.origin[j], i));
+            let d: [f32x8; D] = core::array::from_fn(|j| load8(rays.dir[j], i));
+            let v = self.chord_lanes(o, d, load8(rays.t0, i), load8(rays.t1, i));
+            store8(out, i, v);
+            i += LANES;
+        }
+        for i in i..n {
+            let o = core::array::from_fn(|j| rays.origin[j][i]);
+            let d = core::array::from_fn(|j| rays.dir[j][i]);
+            out[i] = self.chord_lanes::<f32>(o, d, rays.t0[i], rays.t1[i]);
+        }
+        Ok(())
+    }
+}
+
+/// The line's closest approach to the centre, from [`foot`]: the chord is
+/// `[tm − h, tm + h]` with `h = sd/af`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Foot {
+    /// The parameter the origin was re-based to (near the foot).
+    tau: f64,
+    /// `|ω|²` rounded.
+    af: f64,
+    /// `√Δ` (Newton-corrected), `Δ` the discriminant of the quadratic.
+    sd: f64,
+    /// Half chord `√Δ/a`.
+    h: f64,
+    /// Mid-chord parameter.
+    tm: f64,
+}
+
+/// The double-double discriminant of the chord's quadratic and the chord's
+/// midpoint (steps 1–4 of the algorithm in the module docs), or `None` for a
+/// line that misses the open ball (including tangency and overflowing inputs).
+#[inline]
+pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> Option<Foot> {
+    // Re-base at (nearly) the foot of the perpendicular: q' = q + τω, each
+    // shift τ a double and exact as a product (Dd::prod). The rounding of τ
+    // leaves q' about (D + 2)u|q| from the foot along ω; the double-double q'
+    // holds that offset accurately, so a further pass shrinks it to about u
+    // times itself. Passes continue while the offset exceeds r, so
+    // |q'| ≲ dist + r afterwards (found by fuzzing: a whole line through
+    // (2.4e35, 2.4e35) gave a chord of 2048 for r = 0.13, one through
+    // (−7.3e211, …) 1.9e50); an ordinary ray (offset ≈ u|q| ≪ r) takes one
+    // pass. Each pass shrinks the offset by about 2⁻⁵⁰, so 25 reach r from any
+    // finite point (|p − c| ≤ 10³⁰⁸, r ≥ 10⁻¹⁰⁰).
+    let rf = libm::sqrt(r2.hi);
+    let sa = libm::sqrt(a.hi);
+    let mut qp = *q;
+    let mut tau = Dd::ZERO;
+    // Σ|q_j| of the point the last shift was computed from (its rounding
+    // sets the rejection slack below), and of the given point.
+    let mut qn = 0.0;
+    let mut q0n = 0.0;
+    for pass in 0..25 {
+        let mut bp = 0.0;
+        let mut qpn = 0.0;
+        for j in 0..D {
+            bp += qp[j].hi * w[j];
+            qpn += qp[j].hi.abs();
+        }
+        let t = -bp / a.hi;
+        if pass == 0 {
+            q0n = qpn;
+        } else if !(t.abs() * sa > rf) {
+            break;
+        }
+        for j in 0..D {
+            qp[j] = qp[j].add(Dd::prod(t, w[j]));
+        }
+        tau = tau.add(Dd::new(t));
+        qn = qpn;
+    }
+    let tau = tau.to_f64();
+    let mut d2 = 0.0;
+    let mut qpn = 0.0;
+    for j in 0..D {
+        d2 += qp[j].hi * qp[j].hi;
+        qpn += qp[j].hi.abs();
+    }
+    // Quick, safe rejection: d2 is within a few ulp of the exact |q'|², and
+    // |q'|² = dist² + a(τ − τ*)² with |τ − τ*| ≤ (D + 2)u|q| (τ* the exact
+    // foot), which matters when r ≲ u|q| (a tiny ball seen from afar, whose
+    // chords were once all rejected). Also rejects NaN from overflowing inputs.
+    let slack = 8.0 * EPS * qn;
+    if !(d2 <= r2.hi * (1.0 + 1e-12) + slack * slack) {
+        return None;
+    }
+    let mut b = Dd::new(0.0);
+    let mut qq = Dd::new(0.0);
+    for j in 0..D {
+        b = b.add(qp[j].mul(Dd::new(w[j])));
+        qq = qq.add(qp[j].mul(qp[j]));
+    }
+    let mut delta = b.mul(b).sub(a.mul(qq.sub(r2)));
+    if !(delta.hi > TWO_M40 * a.hi * r2.hi) {
+        // Near tangency (or a miss) the double-double Δ has lost ≥ 40 of its
+        // bits to |q'|² − r²: recompute it from the exact constant term at the
+        // base point τ (Δ = b_e² − a·c_e does not depend on the base point;
+        // fuzz finding: a line 1e-42 inside the tangent of r = 4.8e-4 got
+        // h = 3e-127 for 3.2e-23 and then a chord of 1.5e63).
+        // The exact sum is only as good as its condition number: use it when
+        // q itself is near the foot (|q| ≲ 4(|q'| + r)); from a far point the
+        // expansion of |q + τω|² cancels by |q|²/r² and the double-double Δ
+        // of the re-based q' is the better one (fuzz finding: a line through
+        // (2.4e35, 2.4e35, 2.4e35) got Δ = 2²³ from the expansion).
+        if q0n <= 4.0 * (qpn + rf) {
+            let (be, ce) = rebased_bc(q, w, r2, tau);
+            delta = be.mul(be).sub(a.mul(ce));
+        }
+    }
+    if !(delta.hi > 0.0) {
+        return None;
+    }
+    let af = a.to_f64();
+    let sd = delta.sqrt().hi;
+    let h = sd / af;
+    let tm = tau - b.to_f64() / af;
+    Some(Foot { tau, af, sd, h, tm })
+}
+
+/// Chord of the free-space ball `|y| < r` (`r² = r2`) with the line
+/// `q + tω`, `t ∈ [t0, t1]`; `q` exact in double-double, `a = |ω|²`. See the
+/// module docs for the algorithm and its error.
+#[inline]
+pub(crate) fn chord<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    a: Dd,
+    r2: Dd,
+    t0: f64,
+    t1: f64,
+) -> f64 {
+    let Some(Foot { tau, af, sd, h, tm }) = foot(q, w, a, r2) else {
+        return 0.0;
+    };
+    let (lo, hi) = (tm - h, tm + h);
+    // A bound on |lo − t−| and |hi − t+| (t± the exact roots): the roundings of
+    // τ, b/a, t_m and t_m ± h, and the conditioning of h (its absolute error is
+    // ≈ 2⁻¹⁰⁴·r²/h, from Δ's). An end farther than `m` from both roots is on a
+    // known side of each, so only an end within `m` needs the re-based roots.
+    let m = 8.0 * EPS * (tau.abs() + tm.abs() + h) + TWO_M96 * (r2.hi / h);
+    if t0 + m < lo && hi + m < t1 {
+        // Clearly unclipped; still never longer than the segment itself (when
+        // `tm ± h` round onto a zero-length segment far out on the line, found
+        // by fuzzing).
+        return (2.0 * h).min(t1 - t0);
+    }
+    // A NaN end is unbounded on its side.
+    let t0 = if t0.is_nan() { f64::NEG_INFINITY } else { t0 };
+    let t1 = if t1.is_nan() { f64::INFINITY } else { t1 };
+    if !(t0 <= t1) || t1 + m < lo || hi + m < t0 {
+        return 0.0;
+    }
+    // The clipped length, each case one accurately computed quantity (no
+    // rounded root minus an end). With s± = t± − t0 and u± = t± − t1, the
+    // roots of the quadratic re-based at each end (`rebased_roots`; an end
+    // farther than `m` from the chord has known signs), and T = fl(t1 − t0):
+    //   s− ≤ 0 ≤ u+ (both ends inside):  T,
+    //   s− ≤ 0, u+ < 0 (exits inside):    min(T, s+),
+    //   s− > 0 (enters inside):           min(T, −u−, 2h)   (−u− = T − s−).
+    // The signs of s−, u+ are those of the re-based constant terms c_e, whose
+    // double-double error is ≈ 2⁻¹⁰²|q_e|², so an end inside the boundary by
+    // more than ≈ 2⁻¹⁰⁰r²/h (far below 1 ulp of e unless e ≈ 0) keeps T.
+    let len = t1 - t0;
+    let (sm, sp) = if lo <= t0 + m {
+        rebased_roots(q, w, r2, af, sd, t0)
+    } else {
+        (f64::INFINITY, f64::INFINITY)
+    };
+    let (um, up) = if t1 <= hi + m {
+        rebased_roots(q, w, r2, af, sd, t1)
+    } else {
+        (f64::NEG_INFINITY, f64::NEG_INFINITY)
+    };
+    if sm <= 0.0 {
+        if !(sp > 0.0) {
+            return 0.0;
+        }
+        if up >= 0.0 {
+            return len;
+        }
+        return len.min(sp);
+    }
+    len.min(-um).min(2.0 * h).max(0.0)
+}
+
+/// The roots `(s−, s+)`, `s = t − e`, of the chord's quadratic re-based at the
+/// finite end `e`: `a s² + 2 b_e s + c_e = 0` with `q_e = q + eω` (exact
+/// products, ≈ 2⁻¹⁰⁴-relative sums), `b_e = q_e·ω`, `c_e = |q_e|² − r²` in
+/// double-double and `√Δ = sd` (`Δ = b_e² − a c_e` is independent of `e`; the
+/// caller's is computed where it does not cancel). The root of larger
+/// magnitude is `−(b_e + sign(b_e)√Δ)/a` (no cancellation), the other `c_e`
+/// over that numerator (the product of the roots is `c_e/a`), so a root near
+/// the end (`c_e → 0`) keeps its relative accuracy.
+#[inline]
+pub(crate) fn rebased_roots<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    r2: Dd,
+    af: f64,
+    sd: f64,
+    e: f64,
+) -> (f64, f64) {
+    let (b, c) = rebased_bc(q, w, r2, e);
+    let (b, c) = (b.to_f64(), c.to_f64());
+    if b >= 0.0 {
+        let k = -(b + sd);
+        (k / af, c / k)
+    } else {
+        let k = sd - b;
+        (c / k, k / af)
+    }
+}
+
+/// `b_e = q_e·ω` (double-double) and `c_e = |q_e|² − r²` for `q_e = q + eω`.
+///
+/// `c_e` cancels to about `h·L` against `r²` for an end near the boundary (`L`
+/// its distance to the root, `h` the half chord), and to `r² − d²` at the foot
+/// of a near-tangent line, which a double-double sum would resolve only to
+/// `2⁻¹⁰⁶r²`: it is formed exactly as a sum of error-free products (`q_j = hi +
+/// lo` and `e·ω_j = p + p'` exactly, so `(q + eω)_j²` is 10 products of
+/// doubles) summed in four-fold precision ([`sum_accurate`]).
+#[inline]
+pub(crate) fn rebased_bc<const D: usize>(q: &[Dd; D], w: &[f64; D], r2: Dd, e: f64) -> (Dd, Dd) {
+    let mut b = Dd::new(0.0);
+    let mut t = [0.0f64; 62];
+    let mut n = 0;
+    for j in 0..D {
+        let qe = q[j].add(Dd::prod(e, w[j]));
+        b = b.add(qe.mul(Dd::new(w[j])));
+        let (ph, pl) = two_prod(e, w[j]);
+        let parts = [q[j].hi, q[j].lo, ph, pl];
+        for i in 0..4 {
+            for k in i..4 {
+                let (x, y) = two_prod(parts[i], parts[k]);
+                let f = if i == k { 1.0 } else { 2.0 };
+                t[n] = f * x;
+                t[n + 1] = f * y;
+                n += 2;
+            }
+        }
+    }
+    t[n] = -r2.hi;
+    t[n + 1] = -r2.lo;
+    n += 2;
+    (b, sum_accurate(&mut t[..n]))
+}
+
+/// `|ω|²` in double-double.
+#[inline]
+pub(crate) fn norm2<const D: usize>(w: &[f64; D]) -> Dd {
+    let mut a = Dd::new(0.0);
+    for &x in w {
+        a = a.add(Dd::prod(x, x));
+    }
+    a
+}
