@@ -21,12 +21,14 @@ pub struct Direction<const D: usize> {
 }
 
 impl<const D: usize> Direction<D> {
-    /// Normalises `v`.
+    /// Normalises `v` (an array, or `glam::DVec2`/`DVec3` with the `glam`
+    /// feature).
     ///
     /// # Errors
     /// [`ParamError::NonFinite`] (`direction`) for NaN or infinite components,
     /// [`ParamError::ZeroDirection`] for the zero vector.
-    pub fn new(v: [f64; D]) -> Result<Self, ParamError> {
+    pub fn new(v: impl Into<[f64; D]>) -> Result<Self, ParamError> {
+        let v: [f64; D] = v.into();
         if v.iter().any(|x| !x.is_finite()) {
             return Err(ParamError::NonFinite { name: "direction" });
         }

@@ -90,10 +90,16 @@ pub mod sequence;
 pub mod special;
 pub mod spectrum;
 pub mod stats;
+#[cfg(feature = "proptest")]
+pub mod strategy;
 pub mod world;
 
 pub use error::{EstimateError, ParamError, PatternError, SeedError, SpectrumError};
 pub use rng::{Pcg32, Seed};
+
+/// The `glam` version this crate's interop is written against (feature `glam`).
+#[cfg(feature = "glam")]
+pub use glam;
 
 /// The README's code examples, compiled and run as doc tests.
 #[cfg(doctest)]

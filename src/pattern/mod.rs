@@ -29,6 +29,11 @@
 //! | `PoissonDiskN`: exactly `N` points of a [`PoissonDisk`] set (`alloc` feature; each fill generates the whole set) | 1–3 | `≤` [`PoissonDisk::max_points`] |
 //! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
 //!
+//! Point `k` of the random-access patterns (all of the above but Poisson disk and
+//! CCVT) can also be computed on its own, without the others:
+//! [`crate::sequence::Sequence`]. With the `glam` feature, `PatternGlam` fills
+//! slices of `glam::Vec2`, `Vec3` (cast in place) and `Vec3A`.
+//!
 //! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
 //!   for Multiple Integration*, SIAM J. Numer. Anal. 13(6), 1976.
 
@@ -40,6 +45,11 @@ mod nrooks;
 mod poisson;
 mod random;
 mod sobol;
+
+#[cfg(feature = "glam")]
+mod glam;
+#[cfg(feature = "glam")]
+pub use self::glam::PatternGlam;
 
 pub use ccvt::CCVT_DEFAULT_CAPACITY;
 #[cfg(feature = "alloc")]
@@ -340,7 +350,7 @@ impl<P> Shifted<P> {
     /// The shift vector used for `seed`.
     #[must_use]
     pub fn shift<const D: usize>(seed: Seed) -> [f64; D] {
-        core::array::from_fn(|j| unit_f64(seed.stream(SHIFT_PURPOSE + j as u64)))
+        core::array::from_fn(|j| shift_component(seed, j as u32))
     }
 
     /// The unshifted pattern.
@@ -404,6 +414,16 @@ impl<const D: usize, P: Pattern<D>> Pattern<D> for Shifted<P> {
         }
         Ok(())
     }
+}
+
+/// Component `j` of the toroidal shift of [`Shifted`] for `seed`:
+/// `s_j = unit_f64(seed.stream(SHIFT_PURPOSE + j))`, so `Shifted::shift::<D>(seed)[j]`
+/// for every `D > j`. Defined for every `j`, which extends the shift to the
+/// sequence dimensions beyond `D` ([`crate::sequence::Sequence::sample`]).
+#[inline]
+#[must_use]
+pub(crate) fn shift_component(seed: Seed, j: u32) -> f64 {
+    unit_f64(seed.stream(SHIFT_PURPOSE + u64::from(j)))
 }
 
 /// Top 24 bits of `bits` as an `f32` in `[0, 1 − 2⁻²⁴]` (exact).

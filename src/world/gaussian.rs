@@ -61,7 +61,8 @@ impl<const D: usize> Gaussian<D> {
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
     /// (`centre`, `sigma`); [`ParamError::OutOfRange`] (`sigma`) unless
     /// `10⁻⁶ ≤ σ ≤ 10⁶`.
-    pub fn normalised(centre: [f64; D], sigma: f64) -> Result<Self, ParamError> {
+    pub fn normalised(centre: impl Into<[f64; D]>, sigma: f64) -> Result<Self, ParamError> {
+        let centre = centre.into();
         Self::check(&centre, sigma)?;
         // (2πσ²)^{−D/2} = σ^{−D} (2π)^{−D/2}.
         let (peak, line_norm) = if D == 2 {
@@ -80,7 +81,12 @@ impl<const D: usize> Gaussian<D> {
     /// # Errors
     /// As [`Gaussian::normalised`], plus [`ParamError::NonFinite`] (`peak`) and
     /// [`ParamError::OutOfRange`] (`peak`) unless `10⁻³⁰⁰ ≤ A ≤ 10³⁰⁰`.
-    pub fn with_peak(centre: [f64; D], sigma: f64, peak: f64) -> Result<Self, ParamError> {
+    pub fn with_peak(
+        centre: impl Into<[f64; D]>,
+        sigma: f64,
+        peak: f64,
+    ) -> Result<Self, ParamError> {
+        let centre = centre.into();
         Self::check(&centre, sigma)?;
         let peak = check_range("peak", peak, Self::PEAK_MIN, Self::PEAK_MAX)?;
         Ok(Self::build(centre, sigma, peak, peak * (sigma * SQRT_2)))
@@ -359,8 +365,14 @@ impl<const D: usize> Gaussian<D> {
     /// `t0 > t1` gives the negated integral; NaN inputs or `d = 0` give an
     /// unspecified value (NaN or finite).
     #[must_use]
-    pub fn segment_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        kernel32::<f32, D>(&self.consts32(), o, d, t0, t1)
+    pub fn segment_f32(
+        &self,
+        o: impl Into<[f32; D]>,
+        d: impl Into<[f32; D]>,
+        t0: f32,
+        t1: f32,
+    ) -> f32 {
+        kernel32::<f32, D>(&self.consts32(), o.into(), d.into(), t0, t1)
     }
 
     /// SIMD batch (8 lanes) of [`Gaussian::segment_f32`], bit-identical to the

@@ -27,8 +27,9 @@
 //! use linesample::world::{Gaussian, Ray, Sphere};
 //! let ray = Ray::new([0.0, 0.0, -10.0], [0.0, 0.0, 1.0])?;
 //! let s = Sphere::new([0.0, 0.5, 0.0], 1.0)?;
-//! let (t_in, t_out) = s.hit(&ray).unwrap();
-//! assert!((t_out - t_in - 2.0 * 0.75f64.sqrt()).abs() < 1e-15);
+//! let (t_in, t_out) = s.hit(&ray).unwrap();            // 10 ∓ √(1 − 0.5²)
+//! assert!((t_in - (10.0 - 0.75f64.sqrt())).abs() <= 1e-15 * t_in);
+//! assert!((s.chord(&ray) - 2.0 * 0.75f64.sqrt()).abs() <= 1e-15);
 //! // A Gaussian puff of density peak 2 and σ = 0.3, extinction σ_t = 1.5:
 //! let g = Gaussian::with_peak([0.0, 0.0, 0.0], 0.3, 2.0)?;
 //! let tr = g.transmittance(&ray, 0.0, f64::INFINITY, 1.5);
@@ -37,11 +38,19 @@
 //! # Ok::<(), linesample::ParamError>(())
 //! ```
 //!
+//! ## Types
+//!
+//! `f64` inputs are `impl Into<[f64; D]>` (arrays, or `glam::DVec2`/`DVec3`
+//! with the `glam` feature); the scalar `f32` twins take `impl Into<[f32; D]>`
+//! (arrays, `glam::Vec2`/`Vec3`/`Vec3A`), which compiles to a plain move. The
+//! batches take structure-of-arrays slices ([`Rays32`]): a renderer keeps
+//! its ray packets that way for SIMD anyway.
+//!
 //! The derivations are in `docs/theory.md` (World-space closed forms).
 
-pub(crate) mod gaussian;
-pub(crate) mod plane;
-pub(crate) mod sphere;
+pub mod gaussian;
+pub mod plane;
+pub mod sphere;
 
 pub use gaussian::Gaussian;
 pub use plane::{HalfSpace, Slab};
@@ -54,7 +63,8 @@ use crate::error::ParamError;
 
 /// A ray `o + t·ω` in `ℝ^D` with a finite origin and a unit direction
 /// ([`Direction`], normalised at construction), so the parameter `t` is arc
-/// length.
+/// length. Constructors take anything that converts into `[f64; D]`: arrays,
+/// or `glam::DVec2`/`DVec3` (feature `glam`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray<const D: usize> {
     origin: [f64; D],
@@ -68,15 +78,19 @@ impl<const D: usize> Ray<D> {
     /// # Errors
     /// [`ParamError::NonFinite`] (`origin`, `direction`),
     /// [`ParamError::ZeroDirection`].
-    pub fn new(origin: [f64; D], dir: [f64; D]) -> Result<Self, ParamError> {
-        Self::from_direction(origin, Direction::new(dir)?)
+    pub fn new(origin: impl Into<[f64; D]>, dir: impl Into<[f64; D]>) -> Result<Self, ParamError> {
+        Self::from_direction(origin, Direction::new(dir.into())?)
     }
 
     /// The ray from `origin` along an already validated direction.
     ///
     /// # Errors
     /// [`ParamError::NonFinite`] (`origin`).
-    pub fn from_direction(origin: [f64; D], dir: Direction<D>) -> Result<Self, ParamError> {
+    pub fn from_direction(
+        origin: impl Into<[f64; D]>,
+        dir: Direction<D>,
+    ) -> Result<Self, ParamError> {
+        let origin = origin.into();
         if origin.iter().any(|x| !x.is_finite()) {
             return Err(ParamError::NonFinite { name: "origin" });
         }
@@ -89,7 +103,8 @@ impl<const D: usize> Ray<D> {
     /// # Errors
     /// [`ParamError::NonFinite`] (`origin`, `direction`: also when `to − from`
     /// overflows), [`ParamError::ZeroDirection`] for `to = from`.
-    pub fn through(from: [f64; D], to: [f64; D]) -> Result<Self, ParamError> {
+    pub fn through(from: impl Into<[f64; D]>, to: impl Into<[f64; D]>) -> Result<Self, ParamError> {
+        let (from, to) = (from.into(), to.into());
         if to.iter().any(|x| !x.is_finite()) {
             return Err(ParamError::NonFinite { name: "to" });
         }

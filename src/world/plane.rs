@@ -96,8 +96,8 @@ impl<const D: usize> HalfSpace<D> {
     /// # Errors
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
     /// (`direction`, `offset`); [`ParamError::ZeroDirection`].
-    pub fn new(normal: [f64; D], offset: f64) -> Result<Self, ParamError> {
-        Self::from_direction(Direction::new(normal)?, offset)
+    pub fn new(normal: impl Into<[f64; D]>, offset: f64) -> Result<Self, ParamError> {
+        Self::from_direction(Direction::new(normal.into())?, offset)
     }
 
     /// [`HalfSpace::new`] with a validated unit normal.
@@ -171,8 +171,14 @@ impl<const D: usize> HalfSpace<D> {
     /// length additionally `≤ 2u(|t0| + |t1|)`. A ray (nearly) parallel to
     /// the plane is ill-conditioned: it may be kept or dropped whole.
     #[must_use]
-    pub fn segment_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        half_kernel::<f32, D>(&self.n32, self.h32, o, d, t0, t1)
+    pub fn segment_f32(
+        &self,
+        o: impl Into<[f32; D]>,
+        d: impl Into<[f32; D]>,
+        t0: f32,
+        t1: f32,
+    ) -> f32 {
+        half_kernel::<f32, D>(&self.n32, self.h32, o.into(), d.into(), t0, t1)
     }
 
     /// SIMD batch (8 lanes) of [`HalfSpace::segment_f32`], bit-identical to the
@@ -221,9 +227,9 @@ impl<const D: usize> Slab<D> {
     /// [`ParamError::Dimension`]; [`ParamError::NonFinite`] (`direction`,
     /// `h0`, `h1`); [`ParamError::ZeroDirection`]; [`ParamError::OutOfRange`]
     /// (`h1`) if `h1 < h0`.
-    pub fn new(normal: [f64; D], h0: f64, h1: f64) -> Result<Self, ParamError> {
+    pub fn new(normal: impl Into<[f64; D]>, h0: f64, h1: f64) -> Result<Self, ParamError> {
         check_dim::<D>()?;
-        let normal = Direction::new(normal)?;
+        let normal = Direction::new(normal.into())?;
         check_finite("h0", &[h0])?;
         check_finite("h1", &[h1])?;
         if h1 < h0 {
@@ -283,8 +289,14 @@ impl<const D: usize> Slab<D> {
     /// `f32` twin of [`Slab::segment_batch_f32`]: the [`HalfSpace::segment_f32`]
     /// computation for both planes (same error per crossing).
     #[must_use]
-    pub fn segment_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        slab_kernel::<f32, D>(&self.n32, self.h32, o, d, t0, t1)
+    pub fn segment_f32(
+        &self,
+        o: impl Into<[f32; D]>,
+        d: impl Into<[f32; D]>,
+        t0: f32,
+        t1: f32,
+    ) -> f32 {
+        slab_kernel::<f32, D>(&self.n32, self.h32, o.into(), d.into(), t0, t1)
     }
 
     /// SIMD batch (8 lanes) of [`Slab::segment_f32`], bit-identical to the

@@ -46,7 +46,7 @@
 //! down to `10⁻¹⁵·2r`, straddling, ending at, starting at, inside and grazing,
 //! in 2D and 3D: measured `≤ 3.3e−16` relative in every case.) Any finite
 //! `p` is accepted (the repeated re-basing reaches the foot from as far as
-//! `10³⁰⁸`), and `r ≥ 10⁻¹⁰⁰` (enforced: [`Ball::RADIUS_MIN`]), so the squares
+//! `10³⁰⁸`), and `r ≥ 10⁻¹⁰⁰` (enforced: [`Sphere::RADIUS_MIN`]), so the squares
 //! formed near the foot neither overflow nor underflow.
 //!
 //! The `f32` batch path ([`Sphere::segment_batch_f32`], one kernel generic
@@ -120,7 +120,8 @@ impl<const D: usize> Sphere<D> {
     /// [`ParamError::Dimension`] unless `D ∈ {2, 3}`; [`ParamError::NonFinite`]
     /// (`centre`, `radius`); [`ParamError::OutOfRange`] (`radius`) unless
     /// [`Sphere::RADIUS_MIN`] `≤ r ≤` [`Sphere::RADIUS_MAX`].
-    pub fn new(centre: [f64; D], radius: f64) -> Result<Self, ParamError> {
+    pub fn new(centre: impl Into<[f64; D]>, radius: f64) -> Result<Self, ParamError> {
+        let centre = centre.into();
         check_dim::<D>()?;
         check_finite("centre", &centre)?;
         let radius = check_range("radius", radius, Self::RADIUS_MIN, Self::RADIUS_MAX)?;
@@ -291,8 +292,14 @@ impl<const D: usize> Sphere<D> {
     /// `d ≠ 0`; bad input (no panic): `t0 > t1` gives 0, a NaN or infinite
     /// origin gives 0, a NaN end is unbounded.
     #[must_use]
-    pub fn segment_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32 {
-        self.chord_lanes::<f32>(o, d, t0, t1)
+    pub fn segment_f32(
+        &self,
+        o: impl Into<[f32; D]>,
+        d: impl Into<[f32; D]>,
+        t0: f32,
+        t1: f32,
+    ) -> f32 {
+        self.chord_lanes::<f32>(o.into(), d.into(), t0, t1)
     }
 
     /// SIMD batch (8 lanes) of [`Sphere::segment_f32`]: `out[i]` for ray `i`
