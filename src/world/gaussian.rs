@@ -401,13 +401,13 @@ impl<const D: usize> Gaussian<D> {
     #[must_use]
     pub fn transmittance_f32(
         &self,
-        o: [f32; D],
-        d: [f32; D],
+        o: impl Into<[f32; D]>,
+        d: impl Into<[f32; D]>,
         t0: f32,
         t1: f32,
         sigma_t: f32,
     ) -> f32 {
-        transmit32::<f32, D>(&self.consts32(), o, d, t0, t1, sigma_t)
+        transmit32::<f32, D>(&self.consts32(), o.into(), d.into(), t0, t1, sigma_t)
     }
 
     /// SIMD batch (8 lanes) of [`Gaussian::transmittance_f32`], bit-identical
