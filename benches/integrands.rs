@@ -12,7 +12,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, Integrand};
-use linesample::primitive::{Rays32, Segment};
+use linesample::primitive::{Line, Rays32, Segment};
 use linesample::Pcg32;
 use std::hint::black_box;
 use std::time::Duration;
@@ -166,25 +166,66 @@ fn integrands(c: &mut Criterion) {
     bench_set(c, "gaussian 3D lines", &gauss3, &lines3);
     bench_set(c, "gaussian 3D segments", &gauss3, &segs3);
 
-    // The periodised f64 torus segment integral (images + cell walk), for scale.
+    // The periodised f64 torus paths the lab's experiments run on (images +
+    // cell walk): segment means (λ = 0.2, random directions) and oblique box
+    // lines, at r = 0.25 and σ = 0.1.
+    torus(c, "ball", &ball3, &disk, &segs3);
+    let gauss2 = Gaussian::<2>::new([0.5, 0.5], 0.1).unwrap();
+    torus(c, "gaussian σ=0.1", &gauss3, &gauss2, &segs3);
+}
+
+/// Segment means (3D and 2D, λ = 0.2) and oblique lines (2D) per second.
+fn torus(
+    c: &mut Criterion,
+    name: &str,
+    f3: &dyn Integrand<3>,
+    f2: &dyn Integrand<2>,
+    segs3: &RaySet<3>,
+) {
     let segs: Vec<Segment<3>> = (0..N)
         .map(|i| Segment::new(segs3.o64[i], segs3.d64[i], 0.2).unwrap())
         .collect();
-    let mut g = c.benchmark_group("torus segment mean f64");
+    let segs2: Vec<Segment<2>> = (0..N)
+        .map(|i| {
+            let (o, d) = (segs3.o64[i], segs3.d64[i].get());
+            Segment::new(
+                [o[0], o[1]],
+                Direction::new([d[0], d[1] + 1e-3]).unwrap(),
+                0.2,
+            )
+            .unwrap()
+        })
+        .collect();
+    let lines2: Vec<Line<2>> = segs2
+        .iter()
+        .map(|s| Line::new(s.centre(), s.dir()).unwrap())
+        .collect();
+    let mut g = c.benchmark_group(format!("torus f64 {name}"));
     g.throughput(Throughput::Elements(N as u64));
     g.measurement_time(Duration::from_secs(2));
-    for (name, f) in [
-        ("ball 3D", &ball3 as &dyn Integrand<3>),
-        ("gaussian 3D", &gauss3),
-    ] {
-        g.bench_function(BenchmarkId::new(name, N), |b| {
-            b.iter(|| {
-                segs.iter()
-                    .map(|s| f.segment_mean(black_box(s)))
-                    .sum::<f64>()
-            })
-        });
-    }
+    g.bench_function(BenchmarkId::new("3D segment mean", N), |b| {
+        b.iter(|| {
+            segs.iter()
+                .map(|s| f3.segment_mean(black_box(s)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function(BenchmarkId::new("2D segment mean", N), |b| {
+        b.iter(|| {
+            segs2
+                .iter()
+                .map(|s| f2.segment_mean(black_box(s)))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function(BenchmarkId::new("2D oblique line", N), |b| {
+        b.iter(|| {
+            lines2
+                .iter()
+                .map(|l| f2.line_integral(black_box(l)))
+                .sum::<f64>()
+        })
+    });
     g.finish();
 }
 

@@ -227,26 +227,56 @@ impl<const D: usize> Ball<D> {
             }
         }
         let r2 = r * r * (1.0 + 1e-12);
-        let mut sum = 0.0;
-        let total = if D == 2 { 9 } else { 27 };
-        for idx in 0..total {
-            let mut m = idx;
-            let mut dd = 0.0;
-            let mut q = *q0;
-            for j in 0..D {
-                let mj = m % 3;
-                m /= 3;
-                dd += dist2[j][mj];
-                if mj != 1 {
-                    // q = p − (c + n), n = mj − 1
-                    q[j] = q[j].add(Dd::new(1.0 - mj as f64));
+        // Per axis, the image offsets that can reach the piece on their own
+        // (at most 2 of the 3, since r ≤ 1/2), and q's component for each.
+        let mut cand = [[0usize; 3]; D];
+        let mut ncand = [0usize; D];
+        let mut qc = [[Dd::ZERO; 3]; D];
+        for j in 0..D {
+            for mj in 0..3 {
+                if dist2[j][mj] < r2 {
+                    cand[j][ncand[j]] = mj;
+                    ncand[j] += 1;
                 }
-            }
-            if dd < r2 {
-                sum += sphere::chord(&q, &w, a, self.sphere.r2(), t0, t1);
+                // q = p − (c + n), n = mj − 1
+                qc[j][mj] = if mj == 1 {
+                    q0[j]
+                } else {
+                    q0[j].add(Dd::new(1.0 - mj as f64))
+                };
             }
         }
-        sum
+        // The images in the order idx = m_0 + 3 m_1 + 9 m_2 (so the sum is
+        // formed in the same order as over all 3^D images), each whose
+        // distance to the piece's box is below r.
+        let mut sum = 0.0;
+        let mut k = [0usize; D];
+        if ncand.contains(&0) {
+            return 0.0;
+        }
+        loop {
+            let mut dd = 0.0;
+            for j in 0..D {
+                dd += dist2[j][cand[j][k[j]]];
+            }
+            if dd < r2 {
+                let q: [Dd; D] = core::array::from_fn(|j| qc[j][cand[j][k[j]]]);
+                sum += sphere::chord(&q, &w, a, self.sphere.r2(), t0, t1);
+            }
+            // Odometer, axis 0 fastest.
+            let mut j = 0;
+            loop {
+                if j == D {
+                    return sum;
+                }
+                k[j] += 1;
+                if k[j] < ncand[j] {
+                    break;
+                }
+                k[j] = 0;
+                j += 1;
+            }
+        }
     }
 }
 
