@@ -520,7 +520,7 @@ pub(crate) fn rebased_roots<const D: usize>(
     sd: f64,
     e: f64,
 ) -> (f64, f64) {
-    let (b, c) = rebased_bc(q, w, r2, e);
+    let (b, c) = rebased_bc_filtered(q, w, r2, e);
     let (b, c) = (b.to_f64(), c.to_f64());
     if b >= 0.0 {
         let k = -(b + sd);
@@ -529,6 +529,41 @@ pub(crate) fn rebased_roots<const D: usize>(
         let k = sd - b;
         (c / k, k / af)
     }
+}
+
+/// [`rebased_bc`] through a filter: `c_e` in plain double-double
+/// (`q_e = q + eω` by the accurate addition, relative error `≤ 3u²`; its
+/// square `≤ 7u²` more; the sum of `D` non-negative squares `≤ 3Du²` more;
+/// the subtraction of the exact `r²` `≤ 3u²|c_e|`), so
+/// `|c_e − ĉ_e| ≤ 24u²·|q_e|² + 3u²|c_e|` (`u²` = `2⁻¹⁰⁶`, with slack for the
+/// products of the small factors). When that bound is below `2⁻⁸⁰|c_e|`
+/// (`|c_e| ≳ 7·10⁻⁷|q_e|²`, an end not within about `10⁻⁷r²/h` of the
+/// boundary) the cheap value is returned, otherwise the exact one. Callers round
+/// `c_e` to a double, so the two agree in every bit unless `c_e` lies within
+/// `2⁻⁸⁰` relative of a rounding boundary (probability about `2⁻²⁷`), and the
+/// accuracy of the roots is that of the exact `c_e` plus `2⁻⁸⁰` relative.
+/// `b_e` is formed exactly as in [`rebased_bc`].
+#[inline]
+pub(crate) fn rebased_bc_filtered<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    r2: Dd,
+    e: f64,
+) -> (Dd, Dd) {
+    const U2_24: f64 = 24.0 * f64::EPSILON * f64::EPSILON / 4.0;
+    const TWO_M81: f64 = f64::from_bits((1023 - 81) << 52);
+    let mut b = Dd::new(0.0);
+    let mut s = Dd::new(0.0);
+    for j in 0..D {
+        let qe = q[j].add(Dd::prod(e, w[j]));
+        b = b.add(qe.mul(Dd::new(w[j])));
+        s = s.add(qe.mul(qe));
+    }
+    let c = s.sub(r2);
+    if U2_24 * s.hi <= TWO_M81 * c.hi.abs() {
+        return (b, c);
+    }
+    rebased_bc(q, w, r2, e)
 }
 
 /// `b_e = q_e·ω` (double-double) and `c_e = |q_e|² − r²` for `q_e = q + eω`.
