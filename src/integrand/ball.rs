@@ -194,6 +194,7 @@ impl<const D: usize> Ball<D> {
         p: &[f64; D],
         q0: &[Dd; D],
         dir: &Direction<D>,
+        a: Dd,
         t0: f64,
         t1: f64,
     ) -> f64 {
@@ -201,7 +202,6 @@ impl<const D: usize> Ball<D> {
             return 0.0;
         }
         let w = dir.get();
-        let a = sphere::norm2(&w);
         let r = self.radius;
         // Bounding box of the piece, clamped to the unit cell (where the piece
         // lies by contract; also covers infinite parameters).
@@ -386,7 +386,7 @@ impl<const D: usize> Integrand<D> for Ball<D> {
         for j in 0..D {
             q0[j] = Dd::diff(p[j], self.centre[j]);
         }
-        self.piece_chords(p, &q0, dir, t0, t1)
+        self.piece_chords(p, &q0, dir, sphere::norm2(&dir.get()), t0, t1)
     }
 
     /// The wrapped segment integral: the sum of the piece integrals over the
@@ -413,13 +413,15 @@ impl<const D: usize> Integrand<D> for Ball<D> {
             cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::round(c0[j] - c[j])));
         }
         let dir = seg.dir();
+        // |ω|² once per segment (the same value every piece would compute).
+        let a2 = sphere::norm2(&dir.get());
         let mut sum = 0.0;
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
             let mut q0 = cq;
             for j in 0..D {
                 q0[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
             }
-            sum += self.piece_chords(p, &q0, &dir, a, b);
+            sum += self.piece_chords(p, &q0, &dir, a2, a, b);
         });
         sum
     }

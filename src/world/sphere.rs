@@ -437,6 +437,53 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
     Some(Foot { tau, af, sd, h, tm })
 }
 
+/// A quick `f64` test that the chord of `|y| < r` with `q + tω` misses
+/// `[t0, t1]` by more than rounding: the line misses the ball, or the segment
+/// ends before the chord starts or starts after it ends. Then the exact chord
+/// is 0 and [`chord`] returns exactly `0.0`, so skipping it changes no bit.
+///
+/// With `q̂ = q.hi`, `t_m = −(q̂·ω)/a` and `e = q̂ + t_m ω` in `f64`, and
+/// `S = Σ_j (|q̂_j| + |t_m ω_j|)`: `e` differs from the foot vector `e*`
+/// (`e*·ω = 0`, `|e*| = d⊥`) by `(t_m − t*)ω + ρ` with `|ρ_j| ≤ 3u(|q̂_j| +
+/// |t_m ω_j|)` (dropping `q.lo`, the product and the sum), so
+/// `|fl(|e|²) − d⊥²| ≤ 6uS² + (D + 1)uS² + O(u²S²) ≤ 16uS²`; and
+/// `|t_m − t*| ≤ (D + 2)uS`. The tests below add slack for every rounding in
+/// them. `false` (run the full chord) whenever anything is not finite.
+#[inline]
+fn surely_empty<const D: usize>(
+    q: &[Dd; D],
+    w: &[f64; D],
+    a: f64,
+    r2: f64,
+    t0: f64,
+    t1: f64,
+) -> bool {
+    let mut b = 0.0;
+    for j in 0..D {
+        b += q[j].hi * w[j];
+    }
+    let tm = -b / a;
+    let mut d2 = 0.0;
+    let mut s = 0.0;
+    for j in 0..D {
+        let tw = tm * w[j];
+        let e = q[j].hi + tw;
+        d2 += e * e;
+        s += q[j].hi.abs() + tw.abs();
+    }
+    let err = 16.0 * EPS * s * s;
+    let r2_hi = r2 * (1.0 + 8.0 * EPS);
+    if !(err.is_finite() && d2.is_finite()) {
+        return false;
+    }
+    if d2 > r2_hi + err {
+        return true;
+    }
+    let hmax = libm::sqrt(((r2_hi - d2 + err) / a).max(0.0)) * (1.0 + 8.0 * EPS);
+    let mt = 8.0 * EPS * (s + tm.abs() + hmax);
+    t1 < tm - hmax - mt || t0 > tm + hmax + mt
+}
+
 /// Chord of the free-space ball `|y| < r` (`r² = r2`) with the line
 /// `q + tω`, `t ∈ [t0, t1]`; `q` exact in double-double, `a = |ω|²`. See the
 /// module docs for the algorithm and its error.
@@ -449,6 +496,9 @@ pub(crate) fn chord<const D: usize>(
     t0: f64,
     t1: f64,
 ) -> f64 {
+    if surely_empty(q, w, a.hi, r2.hi, t0, t1) {
+        return 0.0;
+    }
     let Some(Foot { tau, af, sd, h, tm }) = foot(q, w, a, r2) else {
         return 0.0;
     };
@@ -481,6 +531,10 @@ pub(crate) fn chord<const D: usize>(
     // double-double error is ≈ 2⁻¹⁰²|q_e|², so an end inside the boundary by
     // more than ≈ 2⁻¹⁰⁰r²/h (far below 1 ulp of e unless e ≈ 0) keeps T.
     let len = t1 - t0;
+    if lo + m < t0 && t1 < hi - m {
+        // Both ends clearly inside (the signs the re-based roots would give).
+        return len;
+    }
     let (sm, sp) = if lo <= t0 + m {
         rebased_roots(q, w, r2, af, sd, t0)
     } else {
