@@ -20,6 +20,12 @@
 //! * exact streaming periodograms of points, segments and lines, radial
 //!   averages and the spectral variance prediction
 //!   `Var = (1/N) Σ_{ν≠0} ⟨N·P(ν)⟩·|f̂(ν)|²` ([`spectrum`]).
+//! * world-space closed forms a renderer calls along its rays ([`world`]:
+//!   sphere entry/exit and clipped chords, Gaussian segment integrals,
+//!   transmittance and opacity, half-spaces and slabs; exact `f64` and 8-lane
+//!   `f32` batches), which the torus integrands periodise;
+//! * random access into sample patterns ([`sequence::Sequence`]) and
+//!   per-pixel seeds ([`sequence::pixel_seed`]).
 //!
 //! ## Quick start
 //!
@@ -60,6 +66,14 @@
 //!
 //! * `std` (default): implies `alloc`.
 //! * `alloc`: allocating conveniences such as [`pattern::Pattern::to_vec`].
+//! * `glam` (off by default): patterns fill `glam::Vec2`/`Vec3` slices in
+//!   place and `Vec3A` through a stack buffer (`pattern::PatternGlam`); rays
+//!   and shapes take `DVec2`/`DVec3`, the `f32` twins `Vec2`/`Vec3`/`Vec3A`.
+//!   Off by default because the core API is plain arrays and a renderer on
+//!   another glam major version would otherwise build two copies.
+//! * `proptest`: `strategy`, proptest strategies for the inputs that break
+//!   renderers (grazing and tangent rays, far origins, deep Gaussian tails,
+//!   near-axis directions), for your own property tests.
 //!
 //! Without default features the crate is `#![no_std]` with no allocator.
 #![no_std]
