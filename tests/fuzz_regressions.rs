@@ -266,3 +266,39 @@ fn gaussian_f32_error_is_exponential_in_the_exponent_error() {
     let err = (got - want).abs();
     assert!(err <= p * (1e-6 + b.exp_m1()), "{got:e} vs {want:e}");
 }
+
+/// `world` fuzz target: a Gaussian centred at `6.4e257` seen along a line
+/// whose cross product with the offset overflows gave a NaN line integral;
+/// the line passes ~1e257 from the centre, so the integral is 0.
+#[test]
+fn world_gaussian_far_centre_is_zero_not_nan() {
+    use linesample::world::{Gaussian as WorldGaussian, Ray};
+    let g = WorldGaussian::<2>::with_peak([6.444e257, 0.0], 1e-3, 1.0).unwrap();
+    let ray = Ray::new([0.0, 0.0], [0.0, 1.0]).unwrap();
+    assert_eq!(g.line(&ray), 0.0);
+    assert_eq!(g.segment(&ray, -1.0, 1.0), 0.0);
+    assert_eq!(g.transmittance(&ray, -1.0, 1.0, 1.0), 1.0);
+}
+
+/// `world` fuzz target: a segment beyond the `f64` range along a ray from
+/// `y = 1.8e308` (its offsets from the foot overflow) gave NaN; it is 0.
+#[test]
+fn world_gaussian_segment_beyond_the_range_is_zero_not_nan() {
+    use linesample::world::{Gaussian as WorldGaussian, Ray};
+    let g = WorldGaussian::<2>::with_peak(
+        [-6.905776912367484e-258, 7.324310975749072e-307],
+        0.00016370415698752083,
+        3.0167554059639814e157,
+    )
+    .unwrap();
+    let ray = Ray::new(
+        [7.565251118924483e-307, 1.7976918122189023e308],
+        [-1.8293195148359608e-253, 6.586037838166659e257],
+    )
+    .unwrap();
+    assert!(g.line(&ray) > 1e150);
+    assert_eq!(
+        g.segment(&ray, 8.581132559700589e304, 1.3824172084878715e306),
+        0.0
+    );
+}

@@ -258,6 +258,12 @@ impl<const D: usize> Gaussian<D> {
             let x = q[i].mul(Dd::new(w[k])).sub(q[k].mul(Dd::new(w[i])));
             cr2 = cr2.add(x.mul(x));
         }
+        if !cr2.hi.is_finite() {
+            // |q × ω|² overflows: the line passes at least ~1e154 from the
+            // centre (σ ≤ 1e6), where the integrand is 0 in f64 (found by
+            // the `world` fuzz target: a centre at 6e257 gave NaN).
+            return 0.0;
+        }
         let rho2 = Dd::div(cr2, a);
         let tc = Dd::div(b, a).neg();
         let sa = libm::sqrt(a.hi);
@@ -273,8 +279,19 @@ impl<const D: usize> Gaussian<D> {
         } else {
             Dd::new(t1).sub(tc)
         };
-        let u0 = s0.to_f64() * inv;
-        let u1 = s1.to_f64() * inv;
+        // An offset that overflows (an end beyond the f64 range, seen from a
+        // foot near it: found by the `world` fuzz target) keeps its infinite
+        // leading part instead of becoming NaN.
+        let wide = |x: Dd, t: f64| {
+            let r = t - tc.hi;
+            if r.is_finite() {
+                x.to_f64()
+            } else {
+                r
+            }
+        };
+        let u0 = wide(s0, t0) * inv;
+        let u1 = wide(s1, t1) * inv;
         if u0 < 0.0 && u1 > 0.0 {
             // Straddles the foot point: no cancellation in erf + erf.
             let g = SQRT_PI_HALF * (libm::erf(u1) + libm::erf(-u0));
