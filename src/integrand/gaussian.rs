@@ -319,6 +319,8 @@ impl<const D: usize> Gaussian<D> {
         }
         let mut m = mlo;
         let mut sum = 0.0;
+        // The direction's constants once per piece, not once per image.
+        let k = self.free.line_consts(w);
         loop {
             let mut d2 = 0.0;
             for j in 0..D {
@@ -331,7 +333,7 @@ impl<const D: usize> Gaussian<D> {
                 for j in 0..D {
                     qm[j] = q[j].sub(Dd::new(m[j] as f64));
                 }
-                sum += self.free.segment_offset(&qm, w, t0, t1);
+                sum += self.free.segment_with(&qm, w, &k, t0, t1);
             }
             let mut j = 0;
             loop {

@@ -37,8 +37,8 @@ const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
 pub struct Gaussian<const D: usize> {
     centre: [f64; D],
     sigma: f64,
-    /// `2σ²` as an exact double-double.
-    two_s2: Dd,
+    /// `1/(2σ²)` as a double-double.
+    inv_two_s2: Dd,
     /// The peak `A`.
     peak: f64,
     /// `A·σ√2` (the prefactor of `G`).
@@ -101,13 +101,14 @@ impl<const D: usize> Gaussian<D> {
 
     fn build(centre: [f64; D], sigma: f64, peak: f64, line_norm: f64) -> Self {
         let s2 = Dd::prod(sigma, sigma);
+        let two_s2 = Dd {
+            hi: 2.0 * s2.hi,
+            lo: 2.0 * s2.lo,
+        };
         Self {
             centre,
             sigma,
-            two_s2: Dd {
-                hi: 2.0 * s2.hi,
-                lo: 2.0 * s2.lo,
-            },
+            inv_two_s2: Dd::div(Dd::new(1.0), two_s2),
             peak,
             line_norm,
         }
@@ -143,10 +144,11 @@ impl<const D: usize> Gaussian<D> {
         }
     }
 
-    /// `x / (2σ²)` in double-double.
+    /// `x / (2σ²)` in double-double, as a product with the double-double
+    /// reciprocal (relative error `≤ 11u²`).
     #[inline]
     fn over_two_s2(&self, x: Dd) -> Dd {
-        Dd::div(x, self.two_s2)
+        x.mul(self.inv_two_s2)
     }
 
     /// `F(x) = A·e^{−|x−c|²/2σ²}` with the squared distance in double-double:
@@ -241,10 +243,42 @@ impl<const D: usize> Gaussian<D> {
     /// The free-space integral along `q + tω` where `q = p − centre` is given
     /// exactly as double-doubles; `t0 < t1`.
     pub(crate) fn segment_offset(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+        self.segment_with(q, w, &self.line_consts(w), t0, t1)
+    }
+
+    /// The constants of [`Gaussian::segment_with`] that depend only on the
+    /// direction (computed once per direction, e.g. once per piece of a
+    /// wrapped segment rather than once per image).
+    #[inline]
+    pub(crate) fn line_consts(&self, w: &[f64; D]) -> LineConsts {
         let mut a = Dd::new(0.0);
+        for &x in w {
+            a = a.add(Dd::prod(x, x));
+        }
+        let sa = libm::sqrt(a.hi);
+        LineConsts {
+            a,
+            inv_a: Dd::div(Dd::new(1.0), a),
+            inv: sa / (self.sigma * SQRT_2),
+            mult: self.line_norm / sa,
+        }
+    }
+
+    /// [`Gaussian::segment_offset`] with the direction's constants given.
+    /// Quotients by `a` are products with its double-double reciprocal
+    /// (relative error `≤ 11u²` instead of `4u²`: far below the `f64`
+    /// rounding of the result).
+    pub(crate) fn segment_with(
+        &self,
+        q: &[Dd; D],
+        w: &[f64; D],
+        k: &LineConsts,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
+        let a = k.a;
         let mut b = Dd::new(0.0);
         for j in 0..D {
-            a = a.add(Dd::prod(w[j], w[j]));
             b = b.add(q[j].mul(Dd::new(w[j])));
         }
         // |q × ω|² (Lagrange: a ρ² = |q|²a − b²).
@@ -264,11 +298,9 @@ impl<const D: usize> Gaussian<D> {
             // the `world` fuzz target: a centre at 6e257 gave NaN).
             return 0.0;
         }
-        let rho2 = Dd::div(cr2, a);
-        let tc = Dd::div(b, a).neg();
-        let sa = libm::sqrt(a.hi);
-        let inv = sa / (self.sigma * SQRT_2);
-        let mult = self.line_norm / sa;
+        let rho2 = cr2.mul(k.inv_a);
+        let tc = b.mul(k.inv_a).neg();
+        let (inv, mult) = (k.inv, k.mult);
         let s0 = if t0 == f64::NEG_INFINITY {
             Dd::new(t0)
         } else {
@@ -353,7 +385,7 @@ impl<const D: usize> Gaussian<D> {
             c_hi,
             c_lo,
             inv_s2: (1.0 / (self.sigma * SQRT_2)) as f32,
-            inv_2s2: (1.0 / self.two_s2.hi) as f32,
+            inv_2s2: (1.0 / (2.0 * (self.sigma * self.sigma))) as f32,
             k: (self.line_norm * SQRT_PI_HALF) as f32,
         }
     }
@@ -446,6 +478,19 @@ impl<const D: usize> Gaussian<D> {
             |o, d, t0, t1| transmit32::<f32, D>(&k, o, d, t0, t1, sigma_t),
         )
     }
+}
+
+/// Per-direction constants of the `f64` segment integral.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LineConsts {
+    /// `a = |ω|²` in double-double.
+    a: Dd,
+    /// `1/a` in double-double.
+    inv_a: Dd,
+    /// `√a/(σ√2)`.
+    inv: f64,
+    /// `A·σ√2/√a`.
+    mult: f64,
 }
 
 /// Runs an 8-lane kernel over full blocks of a ray batch and its scalar twin
