@@ -283,6 +283,7 @@ fn world_gaussian_far_centre_is_zero_not_nan() {
 /// `world` fuzz target: a segment beyond the `f64` range along a ray from
 /// `y = 1.8e308` (its offsets from the foot overflow) gave NaN; it is 0.
 #[test]
+#[allow(clippy::excessive_precision)]
 fn world_gaussian_segment_beyond_the_range_is_zero_not_nan() {
     use linesample::world::{Gaussian as WorldGaussian, Ray};
     let g = WorldGaussian::<2>::with_peak(

@@ -407,8 +407,12 @@ impl<const D: usize> Gaussian<D> {
     /// relative error of at most `e^B − 1`. An absolute bound relative to the
     /// peak that grows only with the `f32` conditioning of the inputs (a tail
     /// segment whose exact value is far below `P·1e−6` may come out as 0). The
-    /// `f32` exponential flushes to 0 below `e^{−87}`. Requires `A·σ` within
-    /// the `f32` range.
+    /// bound holds while `E < 86`: the `f32` exponential flushes to 0 below
+    /// `e^{−87}`, so a line whose factor `e^{−E}` is below that gives 0
+    /// whatever its peak (with `A = 10³⁰`, `σ = 1`, a line 14σ from the centre
+    /// has the value `6.9e−13` and gives 0); results below the `f32` normal
+    /// range carry a few `2⁻¹⁴⁹` absolute. Requires `A·σ` within the `f32`
+    /// range.
     ///
     /// Release behaviour: never panics; infinite `t0`/`t1` are supported;
     /// `t0 > t1` gives the negated integral; NaN inputs or `d = 0` give an
@@ -446,7 +450,8 @@ impl<const D: usize> Gaussian<D> {
     /// `f32` transmittance `e^{−σ_t·∫F}` along `o + t·d`, `t ∈ [t0, t1]`: the
     /// scalar twin of [`Gaussian::transmittance_batch_f32`]. With `ε` the
     /// absolute error of [`Gaussian::segment_f32`], the error is at most
-    /// `T·(σ_t·ε + 3e−7)` (the crate's `f32` exponential, relative `3e−7`).
+    /// `T·(σ_t·ε + 3e−7)` (the crate's `f32` exponential, relative `3e−7`),
+    /// for `τ < 86`; beyond, `T < e^{−86}` flushes to 0.
     #[must_use]
     pub fn transmittance_f32(
         &self,

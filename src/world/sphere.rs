@@ -25,7 +25,10 @@
 //!    `b_e = q_e·ω` in double-double and `c_e = |q_e|² − r²` summed exactly
 //!    from error-free products in four-fold precision
 //!    ([`crate::num::sum_accurate`]; it cancels to about `h·L` against `r²`),
-//!    and its roots taken from the cancellation-free pair
+//!    (from an origin more than `10¹²` times farther away than the foot
+//!    region, `q_e = q' + (e − τ)ω` is formed from the re-based `q'` in
+//!    double-double instead: the expansion from `q` would cancel by `|q|²`,
+//!    beyond even the four-fold sum) and its roots taken from the cancellation-free pair
 //!    `s₁ = −(b_e + sign(b_e)√Δ)/a`, `s₂ = c_e/(a s₁)`, so a root next to the
 //!    end (`c_e → 0`) keeps its relative accuracy. The clipped length is then
 //!    one such quantity: `t1 − t0` (both ends inside), `t+ − t0` (exits inside),
@@ -334,9 +337,19 @@ impl<const D: usize> Sphere<D> {
 /// The line's closest approach to the centre, from [`foot`]: the chord is
 /// `[tm − h, tm + h]` with `h = sd/af`.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Foot {
+pub(crate) struct Foot<const D: usize> {
     /// The parameter the origin was re-based to (near the foot).
     tau: f64,
+    /// The same as a double-double (the exact sum of the shifts up to
+    /// `3u²` relative).
+    tau_dd: Dd,
+    /// The re-based offset `q' = q + τω` (double-double).
+    qp: [Dd; D],
+    /// The origin is so far from the foot (`Σ|q_j| > 10¹²(Σ|q'_j| + r)`) that
+    /// the four-fold sum of `|q + eω|² − r²` from `q` (error about
+    /// `(62u)⁴|q|²`) would be worse than the double-double one from `q'`
+    /// (about `24u²|q_e|²`): end quantities are then formed from `q'`.
+    far: bool,
     /// `|ω|²` rounded.
     af: f64,
     /// `√Δ` (Newton-corrected), `Δ` the discriminant of the quadratic.
@@ -351,7 +364,7 @@ pub(crate) struct Foot {
 /// midpoint (steps 1–4 of the algorithm in the module docs), or `None` for a
 /// line that misses the open ball (including tangency and overflowing inputs).
 #[inline]
-pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> Option<Foot> {
+pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> Option<Foot<D>> {
     // Re-base at (nearly) the foot of the perpendicular: q' = q + τω, each
     // shift τ a double and exact as a product (Dd::prod). The rounding of τ
     // leaves q' about (D + 2)u|q| from the foot along ω; the double-double q'
@@ -389,6 +402,7 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
         tau = tau.add(Dd::new(t));
         qn = qpn;
     }
+    let tau_dd = tau;
     let tau = tau.to_f64();
     let mut d2 = 0.0;
     let mut qpn = 0.0;
@@ -400,6 +414,7 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
     // |q'|² = dist² + a(τ − τ*)² with |τ − τ*| ≤ (D + 2)u|q| (τ* the exact
     // foot), which matters when r ≲ u|q| (a tiny ball seen from afar, whose
     // chords were once all rejected). Also rejects NaN from overflowing inputs.
+    let far = !(q0n <= 1e12 * (qpn + rf));
     let slack = 8.0 * EPS * qn;
     if !(d2 <= r2.hi * (1.0 + 1e-12) + slack * slack) {
         return None;
@@ -434,7 +449,16 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
     let sd = delta.sqrt().hi;
     let h = sd / af;
     let tm = tau - b.to_f64() / af;
-    Some(Foot { tau, af, sd, h, tm })
+    Some(Foot {
+        tau,
+        tau_dd,
+        qp,
+        far,
+        af,
+        sd,
+        h,
+        tm,
+    })
 }
 
 /// A quick `f64` test that the chord of `|y| < r` with `q + tω` misses
@@ -499,8 +523,18 @@ pub(crate) fn chord<const D: usize>(
     if surely_empty(q, w, a.hi, r2.hi, t0, t1) {
         return 0.0;
     }
-    let Some(Foot { tau, af, sd, h, tm }) = foot(q, w, a, r2) else {
+    let Some(f) = foot(q, w, a, r2) else {
         return 0.0;
+    };
+    let Foot {
+        tau, af, sd, h, tm, ..
+    } = f;
+    let roots_at = |e: f64| {
+        if f.far {
+            rebased_roots_from_foot(&f.qp, w, r2, af, sd, Dd::new(e).sub(f.tau_dd))
+        } else {
+            rebased_roots(q, w, r2, af, sd, e)
+        }
     };
     let (lo, hi) = (tm - h, tm + h);
     // A bound on |lo − t−| and |hi − t+| (t± the exact roots): the roundings of
@@ -536,12 +570,12 @@ pub(crate) fn chord<const D: usize>(
         return len;
     }
     let (sm, sp) = if lo <= t0 + m {
-        rebased_roots(q, w, r2, af, sd, t0)
+        roots_at(t0)
     } else {
         (f64::INFINITY, f64::INFINITY)
     };
     let (um, up) = if t1 <= hi + m {
-        rebased_roots(q, w, r2, af, sd, t1)
+        roots_at(t1)
     } else {
         (f64::NEG_INFINITY, f64::NEG_INFINITY)
     };
@@ -576,6 +610,40 @@ pub(crate) fn rebased_roots<const D: usize>(
 ) -> (f64, f64) {
     let (b, c) = rebased_bc_filtered(q, w, r2, e);
     let (b, c) = (b.to_f64(), c.to_f64());
+    if b >= 0.0 {
+        let k = -(b + sd);
+        (k / af, c / k)
+    } else {
+        let k = sd - b;
+        (c / k, k / af)
+    }
+}
+
+/// [`rebased_roots`] for an origin far from the foot of the perpendicular
+/// (`Foot::far`): the quadratic is re-based at `e` from the re-based offset
+/// `q' = q + τω` and `e' = e − τ` (double-double), `q_e = q' + e'ω`, with
+/// `b_e` and `c_e = |q_e|² − r²` in double-double. Every error is then relative
+/// to the local quantities (`q'`, `e'`, `r`: `≈ 24u²(|q_e|² + |e'|·|q_e|)`
+/// absolute in `c_e`), not to `|q|²`, which from a far origin exceeds them by
+/// up to `10⁶⁰` and defeats even the four-fold sum (found by the world tests:
+/// an origin at `10³⁰` with an end at the boundary gave 0 for `1.1e−6`).
+#[inline]
+fn rebased_roots_from_foot<const D: usize>(
+    qp: &[Dd; D],
+    w: &[f64; D],
+    r2: Dd,
+    af: f64,
+    sd: f64,
+    e: Dd,
+) -> (f64, f64) {
+    let mut b = Dd::new(0.0);
+    let mut c = Dd::new(0.0);
+    for j in 0..D {
+        let qe = qp[j].add(e.mul(Dd::new(w[j])));
+        b = b.add(qe.mul(Dd::new(w[j])));
+        c = c.add(qe.mul(qe));
+    }
+    let (b, c) = (b.to_f64(), c.sub(r2).to_f64());
     if b >= 0.0 {
         let k = -(b + sd);
         (k / af, c / k)
