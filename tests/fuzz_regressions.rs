@@ -303,3 +303,13 @@ fn world_gaussian_segment_beyond_the_range_is_zero_not_nan() {
         0.0
     );
 }
+
+/// `world` fuzz target: a narrow Gaussian whose exponent `ρ²/2σ²` overflows
+/// (a line `3.5e152` from the centre, `σ = 5e-3`) gave NaN; it is 0.
+#[test]
+fn world_gaussian_overflowing_exponent_is_zero_not_nan() {
+    use linesample::world::{Gaussian as WorldGaussian, Ray};
+    let g = WorldGaussian::<2>::with_peak([0.0, 0.0], 0.005238970588235294, 2.46e260).unwrap();
+    let ray = Ray::new([3.5e152, 6.444e257], [0.0, -1.0]).unwrap();
+    assert_eq!(g.line(&ray), 0.0);
+}

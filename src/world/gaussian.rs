@@ -148,6 +148,12 @@ impl<const D: usize> Gaussian<D> {
     /// reciprocal (relative error `≤ 11u²`).
     #[inline]
     fn over_two_s2(&self, x: Dd) -> Dd {
+        // An exponent that overflows (a line ~1e152 from the centre of a
+        // narrow Gaussian) is +∞, not the NaN of an overflowing double-double
+        // product (found by the `world` fuzz target).
+        if x.hi * self.inv_two_s2.hi == f64::INFINITY {
+            return Dd::new(f64::INFINITY);
+        }
         x.mul(self.inv_two_s2)
     }
 
