@@ -16,7 +16,7 @@
 //! Every implementation evaluates only the point asked for, with the scalar
 //! generator of the pattern started at `index`:
 //!
-//! | pattern | [`len`](Sequence::len) | [`dimensions`](Sequence::dimensions) | cost of one point |
+//! | pattern | [`count`](Sequence::count) | [`dimensions`](Sequence::dimensions) | cost of one point |
 //! |---|---|---|---|
 //! | [`Sobol<D>`] | `2³²` (the whole sequence) | 16 ([`SOBOL_DIMENSIONS`]) | `O(1)`: two hash scrambles and a 32-bit matrix product per coordinate |
 //! | [`Halton<D>`] | `2³²` (the whole sequence) | 16 ([`HALTON_DIMENSIONS`]) | `O(K_b)` per coordinate, `K_b ≤ 32` base-`b` digits |
@@ -128,17 +128,14 @@ use wide::f32x8;
 /// pattern and seed. Object safe; never allocates; never panics (bad indices
 /// are errors).
 ///
-/// A type that is both a [`Pattern`](crate::pattern::Pattern) and a
-/// `Sequence` has two `len` methods (`usize` and `u64`, and for [`Sobol`] and
-/// [`Halton`] different values): with both traits in scope, call them as
-/// `Sequence::len(&p)` / `Pattern::len(&p)`.
-// A sequence is never empty (constructors reject N = 0), so no `is_empty`,
-// which would also clash with `Pattern::is_empty` on the same types.
-#[allow(clippy::len_without_is_empty)]
+/// The number of points is [`Sequence::count`], not `len`, so that a type
+/// that is also a [`Pattern`](crate::pattern::Pattern) (whose `len` is the
+/// `usize` pattern size, different for [`Sobol`] and [`Halton`]) has no
+/// ambiguous method when both traits are in scope.
 pub trait Sequence<const D: usize> {
     /// Number of points: the pattern's `N`, or `2³²` for [`Sobol`] and
     /// [`Halton`], whose points do not depend on `N`. Always at least 1.
-    fn len(&self) -> u64;
+    fn count(&self) -> u64;
 
     /// Number of dimensions [`Sequence::sample`] accepts: `D`, or 16
     /// ([`SOBOL_DIMENSIONS`], [`HALTON_DIMENSIONS`]) for [`Sobol`] and
@@ -151,8 +148,8 @@ pub trait Sequence<const D: usize> {
     /// points with `seed`.
     ///
     /// # Errors
-    /// [`PatternError::Range`] `{ first: index, len: 1, n: self.len() }` if
-    /// `index ≥ self.len()`.
+    /// [`PatternError::Range`] `{ first: index, len: 1, n: self.count() }` if
+    /// `index ≥ self.count()`.
     fn point(&self, index: u64, seed: Seed) -> Result<[f32; D], PatternError>;
 
     /// Coordinate `dim` of point `index`: `point(index, seed)?[dim]` for
@@ -177,8 +174,8 @@ pub trait Sequence<const D: usize> {
 }
 
 impl<const D: usize, S: Sequence<D> + ?Sized> Sequence<D> for &S {
-    fn len(&self) -> u64 {
-        (**self).len()
+    fn count(&self) -> u64 {
+        (**self).count()
     }
     fn dimensions(&self) -> u32 {
         (**self).dimensions()
@@ -258,7 +255,7 @@ fn generated<const D: usize, G: Generate<D>>(
 macro_rules! finite_sequence {
     ($(impl[$($gen:tt)*] Sequence<$d:tt> for $ty:ty;)*) => {$(
         impl<$($gen)*> Sequence<$d> for $ty {
-            fn len(&self) -> u64 {
+            fn count(&self) -> u64 {
                 Generate::<$d>::n(self)
             }
             fn point(&self, index: u64, seed: Seed) -> Result<[f32; $d], PatternError> {
@@ -284,7 +281,7 @@ const FULL: u64 = 1 << 32;
 macro_rules! full_sequence {
     ($($ty:ident, $dims:expr;)*) => {$(
         impl<const D: usize> Sequence<D> for $ty<D> {
-            fn len(&self) -> u64 {
+            fn count(&self) -> u64 {
                 FULL
             }
             fn dimensions(&self) -> u32 {
@@ -316,8 +313,8 @@ full_sequence! {
 /// [`Sequence::sample`] continues the shift with the same formula,
 /// `s_j = Shifted::shift::<J>(seed)[j]` for any `J > j`.
 impl<const D: usize, P: Sequence<D>> Sequence<D> for Shifted<P> {
-    fn len(&self) -> u64 {
-        self.inner().len()
+    fn count(&self) -> u64 {
+        self.inner().count()
     }
     fn dimensions(&self) -> u32 {
         self.inner().dimensions()

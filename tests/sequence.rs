@@ -35,7 +35,7 @@ fn check_against_fill<const D: usize, P: Pattern<D> + Sequence<D>>(p: &P, what: 
         let dynamic: &dyn Sequence<D> = p;
         assert_eq!(bits(dynamic.point(0, seed).unwrap()), bits(pts[0]));
     }
-    if Sequence::len(p) == n as u64 {
+    if Sequence::count(p) == n as u64 {
         for index in [n as u64, n as u64 + 7, u64::MAX] {
             assert_eq!(
                 p.point(index, SEEDS[1]),
@@ -151,8 +151,8 @@ fn sobol_and_halton_run_past_n() {
         Halton::<3>::new(10).unwrap(),
         Halton::<3>::new(1000).unwrap(),
     );
-    assert_eq!(Sequence::len(&small), 1 << 32);
-    assert_eq!(Sequence::len(&hsmall), 1 << 32);
+    assert_eq!(Sequence::count(&small), 1 << 32);
+    assert_eq!(Sequence::count(&hsmall), 1 << 32);
     let mut pts = vec![[0.0f32; 2]; 1000];
     let mut hpts = vec![[0.0f32; 3]; 1000];
     for seed in SEEDS {

@@ -174,7 +174,7 @@ pub fn render_row<S: Sequence<2>>(
                     name: "spp",
                     value: f64::from(spp),
                     min: 1.0,
-                    max: seq.len() as f64,
+                    max: seq.count() as f64,
                 })?;
             let px = 2.0 * (x as f32 + u) / w - 1.0;
             let py = 1.0 - 2.0 * (y as f32 + v) / h;
