@@ -144,10 +144,19 @@ impl<const D: usize> Line<D> {
                 num = num.add(Dd::diff(0.5, p[j]).mul(Dd::new(w[j])));
             }
             let tau = num.to_f64() / a;
-            for j in 0..D {
-                p[j] = Dd::new(p[j]).add(Dd::prod(tau, w[j])).to_f64();
+            // A step that overflows (a point near the end of the f64 range,
+            // found by the `geometry` fuzz target: it made the point NaN)
+            // keeps the last finite point, which is on the line.
+            if !tau.is_finite() {
+                break;
             }
-            if tau.abs() <= 1.0 || !tau.is_finite() {
+            let next: [f64; D] =
+                core::array::from_fn(|j| Dd::new(p[j]).add(Dd::prod(tau, w[j])).to_f64());
+            if next.iter().any(|x| !x.is_finite()) {
+                break;
+            }
+            p = next;
+            if tau.abs() <= 1.0 {
                 break;
             }
         }

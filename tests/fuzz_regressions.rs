@@ -313,3 +313,22 @@ fn world_gaussian_overflowing_exponent_is_zero_not_nan() {
     let ray = Ray::new([3.5e152, 6.444e257], [0.0, -1.0]).unwrap();
     assert_eq!(g.line(&ray), 0.0);
 }
+
+/// `geometry` fuzz target: a line through a point at the end of the `f64`
+/// range, `(−2.96e305, −1.8e308)`, got a NaN stored point (the re-basing
+/// step toward the box centre overflowed); the point stays finite and on the
+/// line.
+#[test]
+fn line_through_a_point_at_the_end_of_the_range_stays_finite() {
+    let dir = Direction::new([1.03977793757e-312, 1.884794008661276e-307]).unwrap();
+    let p = [-2.962506997148592e305, -1.7976931348623157e308];
+    let line = Line::new(p, dir).unwrap();
+    let q = line.point();
+    assert!(q.iter().all(|x| x.is_finite()), "{q:?}");
+    // On the line: the perpendicular offset from p is within rounding.
+    let w = dir.get();
+    let d = [q[0] - p[0], q[1] - p[1]];
+    let along = d[0] * w[0] + d[1] * w[1];
+    let perp = ((d[0] - along * w[0]).powi(2) + (d[1] - along * w[1]).powi(2)).sqrt();
+    assert!(perp <= 1e-15 * f64::MAX, "{perp:e}");
+}
