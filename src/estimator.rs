@@ -180,7 +180,7 @@ fn random_direction<const D: usize>(seed: Seed, k: usize) -> Direction<D> {
         w[1] = libm::sin(tau * u);
     } else {
         let z = 1.0 - 2.0 * u;
-        let r = libm::sqrt((1.0 - z * z).max(0.0));
+        let r = crate::num::scalar::sqrt((1.0 - z * z).max(0.0));
         w[0] = r * libm::cos(tau * v);
         w[1] = r * libm::sin(tau * v);
         w[2] = z;

@@ -40,7 +40,7 @@ impl<const D: usize> Direction<D> {
         for j in 0..D {
             s[j] = v[j] / m;
         }
-        let n = libm::sqrt(s.iter().map(|x| x * x).sum::<f64>());
+        let n = crate::num::scalar::sqrt(s.iter().map(|x| x * x).sum::<f64>());
         for x in &mut s {
             *x /= n;
         }
@@ -130,7 +130,7 @@ impl<const D: usize> Direction<D> {
                     }
                 }
             }
-            let n = libm::sqrt(dot(&u, &u));
+            let n = crate::num::scalar::sqrt(dot(&u, &u));
             for x in &mut u {
                 *x /= n;
             }
@@ -207,7 +207,7 @@ pub fn for_each_piece<const D: usize>(
     let mut m = [0.0f64; D];
     for j in 0..D {
         let x = c[j] + t * w[j];
-        let mut f = libm::floor(x);
+        let mut f = crate::num::scalar::floor(x);
         if x == f && w[j] < 0.0 {
             f -= 1.0;
         }

@@ -226,7 +226,9 @@ mod tests {
                     .map(|&c| (f64::from(c) - e).powi(2) / e)
                     .sum();
                 let df = f64::from(n - 1);
-                let q = df * (1.0 - 2.0 / (9.0 * df) + 3.72 * libm::sqrt(2.0 / (9.0 * df))).powi(3);
+                let q = df
+                    * (1.0 - 2.0 / (9.0 * df) + 3.72 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
+                        .powi(3);
                 assert!(chi < q, "n {n} i {i}: chi2 {chi} ≥ {q}");
             }
         }
@@ -254,7 +256,9 @@ mod tests {
                 }
             }
             let df = f64::from(n * (n - 1) - 1);
-            let q = df * (1.0 - 2.0 / (9.0 * df) + 3.72 * libm::sqrt(2.0 / (9.0 * df))).powi(3);
+            let q = df
+                * (1.0 - 2.0 / (9.0 * df) + 3.72 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
+                    .powi(3);
             assert!(chi < q, "n {n}: chi2 {chi} ≥ {q}");
         }
     }

@@ -142,7 +142,7 @@ pub fn exp_neg_dd(e: Dd, mult: f64) -> f64 {
         return mult * (libm::exp(-e.hi) * (1.0 - e.lo));
     }
     // E' = E − n·ln2 ≈ 500.
-    let n = libm::floor((e.hi - 500.0) * core::f64::consts::LOG2_E);
+    let n = crate::num::scalar::floor((e.hi - 500.0) * core::f64::consts::LOG2_E);
     if n > 4000.0 {
         return 0.0;
     }

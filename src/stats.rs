@@ -109,7 +109,7 @@ impl RunningStats {
         if self.n < 2 {
             return f64::INFINITY;
         }
-        libm::sqrt(self.variance() / self.n as f64)
+        crate::num::scalar::sqrt(self.variance() / self.n as f64)
     }
 
     /// Standard error of the sample variance: `√(Var s²)` with
@@ -124,7 +124,7 @@ impl RunningStats {
         let n = self.n as f64;
         let s2 = self.m2 / n;
         let mu4 = self.m4 / n;
-        libm::sqrt(((mu4 - s2 * s2 * (n - 3.0) / (n - 1.0)) / n).max(0.0))
+        crate::num::scalar::sqrt(((mu4 - s2 * s2 * (n - 3.0) / (n - 1.0)) / n).max(0.0))
     }
 
     /// The state, to persist it (resume a run, merge shards computed
@@ -259,7 +259,7 @@ mod tests {
         }
         fn normal(&mut self) -> f64 {
             let (a, b) = (self.uniform(), self.uniform());
-            libm::sqrt(-2.0 * libm::log(a)) * libm::cos(core::f64::consts::TAU * b)
+            crate::num::scalar::sqrt(-2.0 * libm::log(a)) * libm::cos(core::f64::consts::TAU * b)
         }
         fn exponential(&mut self) -> f64 {
             -libm::log(self.uniform())
@@ -298,9 +298,9 @@ mod tests {
             let m4 = a4 - 4.0 * a1 * a3 + 6.0 * a1 * a1 * a2 - 3.0 * a1.powi(4);
             (
                 self.c + a1,
-                libm::sqrt(m2 / n),
+                crate::num::scalar::sqrt(m2 / n),
                 m2,
-                libm::sqrt((m4 - m2 * m2) / n),
+                crate::num::scalar::sqrt((m4 - m2 * m2) / n),
             )
         }
     }

@@ -42,7 +42,7 @@ fn sign() -> impl Strategy<Value = f64> + Clone {
 fn normalise<const D: usize>(v: [f64; D]) -> [f64; D] {
     let m = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let s: [f64; D] = core::array::from_fn(|j| v[j] / m);
-    let n = libm::sqrt(s.iter().map(|x| x * x).sum::<f64>());
+    let n = crate::num::scalar::sqrt(s.iter().map(|x| x * x).sum::<f64>());
     core::array::from_fn(|j| s[j] / n)
 }
 
@@ -122,7 +122,7 @@ fn back<const D: usize>(f: &[f64; D], w: &[f64; D], s: f64) -> [f64; D] {
 fn perpendicular<const D: usize>(w: &[f64; D], v: &[f64; D]) -> [f64; D] {
     let d: f64 = (0..D).map(|j| v[j] * w[j]).sum();
     let p: [f64; D] = core::array::from_fn(|j| v[j] - d * w[j]);
-    let n = libm::sqrt(p.iter().map(|x| x * x).sum::<f64>());
+    let n = crate::num::scalar::sqrt(p.iter().map(|x| x * x).sum::<f64>());
     if n > 1e-6 {
         return core::array::from_fn(|j| p[j] / n);
     }
@@ -199,7 +199,7 @@ pub fn boundary_segment<const D: usize>() -> impl Strategy<Value = (SphereRay<D>
             let r = case.radius;
             let q: [f64; D] = core::array::from_fn(|j| case.origin[j] - case.centre[j]);
             let b: f64 = (0..D).map(|j| q[j] * case.dir[j]).sum();
-            let h = r * libm::sqrt((1.0 - case.distance) * (1.0 + case.distance));
+            let h = r * crate::num::scalar::sqrt((1.0 - case.distance) * (1.0 + case.distance));
             let root = if exit { -b + h } else { -b - h };
             let mut e = root + frac * r;
             for _ in 0..ulps.unsigned_abs() {
@@ -269,7 +269,7 @@ pub fn gaussian_segment<const D: usize>() -> impl Strategy<Value = GaussianSegme
         .prop_map(|(c, sigma, w, v, e, s, shape, len, a)| {
             let sigma = sigma.clamp(Gaussian::<D>::SIGMA_MIN, Gaussian::<D>::SIGMA_MAX);
             let u = perpendicular(&w, &v);
-            let d = sigma * libm::sqrt(2.0 * e);
+            let d = sigma * crate::num::scalar::sqrt(2.0 * e);
             let foot: [f64; D] = core::array::from_fn(|j| c[j] + d * u[j]);
             let origin = back(&foot, &w, s * sigma);
             // Parameters relative to the foot (at t = s·σ).

@@ -1484,3 +1484,89 @@ fn short_wrapped_segments_across_faces_and_the_boundary() {
         "wrapped boundary segments across a face: worst relative error 2D {w2:.2e}, 3D {w3:.2e}"
     );
 }
+
+/// The early exit of `Ball::segment_integral` (a short segment provably
+/// farther than `r` from every image returns 0 without the cell walk) is
+/// exact on both sides of the boundary: segments just outside (grazing at
+/// distance `r(1 + δ)`, or ending `rδ` short of the sphere, also across the
+/// cell faces) give exactly 0, and the same segments moved `rδ` inside give
+/// the positive chord, for `δ` from `10⁻³` down to `10⁻¹⁴` (`rδ ≥ 2·10⁻¹⁵`,
+/// above the rounding of the constructed points; inside the exit's margin,
+/// `10⁻¹³` in the squared distance, the full path decides).
+#[test]
+fn short_segment_early_exit_is_exact_at_the_boundary() {
+    fn check<const D: usize>(c: [f64; D], r: f64, w: [f64; D], n: [f64; D], half: f64) -> usize {
+        let dir = Direction::new(w).unwrap();
+        let w = dir.get();
+        let n = Direction::new(n).unwrap().get();
+        let mut checked = 0;
+        for delta in [1e-3, 1e-6, 1e-9, 1e-12, 1e-13, 1e-14] {
+            if r * delta < 2e-15 {
+                // Below the rounding of the constructed points (≈ 6e-17).
+                continue;
+            }
+            for sign in [1.0, -1.0] {
+                let rr = r * (1.0 + sign * delta);
+                // Grazing: the segment's midpoint at distance rr along n ⟂ ω.
+                let g: [f64; D] = core::array::from_fn(|j| c[j] + rr * n[j]);
+                // End-on: the segment along ω ending at distance rr from c.
+                let e: [f64; D] = core::array::from_fn(|j| c[j] - (rr + half) * w[j]);
+                for p in [g, e] {
+                    let v = Ball::<D>::new(c, r)
+                        .unwrap()
+                        .segment_integral(&Segment::new(p, dir, 2.0 * half).unwrap());
+                    if sign > 0.0 {
+                        assert_eq!(v, 0.0, "outside by {delta:e}: {v:e} (r {r}, c {c:?})");
+                    } else {
+                        assert!(v > 0.0, "inside by {delta:e}: {v:e} (r {r}, c {c:?})");
+                    }
+                    checked += 1;
+                }
+            }
+        }
+        checked
+    }
+    let mut n = 0;
+    for r in [0.25, 0.1, 0.01, 1e-4] {
+        for half in [0.1, 0.2, 0.01] {
+            // Centres inside the cell and at its faces (the segments cross them).
+            for c in [0.5, 0.02, 0.99, 0.0] {
+                n += check::<2>([c, 0.37], r, [0.6, 0.8], [-0.8, 0.6], half);
+                n += check::<3>([c, 0.37, 0.81], r, [2.0, -1.0, 2.0], [1.0, 2.0, 0.0], half);
+            }
+        }
+    }
+    // Random short segments of large balls (half + r near or above 1/2, where
+    // images other than the nearest reach the segment): the result is 0
+    // exactly when the nearest image of all 3^D is farther than r.
+    let mut rng = linesample::Pcg32::new(17, 4);
+    let mut u = || f64::from(rng.next_u32()) / 4_294_967_296.0;
+    let mut hits = [0usize; 2];
+    for _ in 0..20_000 {
+        let r = [0.45, 0.3, 0.2][(u() * 3.0) as usize];
+        let half = [0.05, 0.1, 0.2][(u() * 3.0) as usize];
+        let c = [u(), u()];
+        let p = [u() * 3.0 - 1.0, u() * 3.0 - 1.0];
+        let dir = Direction::new([u() - 0.5, u() - 0.5]).unwrap();
+        let w = dir.get();
+        let mut dmin = f64::INFINITY;
+        for nx in -3..=3 {
+            for ny in -3..=3 {
+                let y = [p[0] - c[0] - f64::from(nx), p[1] - c[1] - f64::from(ny)];
+                let t = (y[0] * w[0] + y[1] * w[1]).clamp(-half, half);
+                dmin = dmin.min(((y[0] - t * w[0]).powi(2) + (y[1] - t * w[1]).powi(2)).sqrt());
+            }
+        }
+        let v = Ball::<2>::new(c, r)
+            .unwrap()
+            .segment_integral(&Segment::new(p, dir, 2.0 * half).unwrap());
+        if dmin > r + 1e-9 {
+            assert_eq!(v, 0.0, "{p:?} {c:?} r {r} half {half}: d {dmin}");
+            hits[0] += 1;
+        } else if dmin < r - 1e-9 {
+            assert!(v > 0.0, "{p:?} {c:?} r {r} half {half}: d {dmin}");
+            hits[1] += 1;
+        }
+    }
+    println!("{n} boundary segments; random: {} miss, {} hit", hits[0], hits[1]);
+}

@@ -365,3 +365,100 @@ fn phase_reduction_hard_cases() {
     let exact = exact_frac_centered(1_000_000, 0.1);
     assert!((naive - exact).abs() > 1e-12, "{naive} {exact}");
 }
+
+/// Edge cases for the inlined scalar primitives: zeros of both signs, halves,
+/// the neighbours of integers and halves, the `2⁵²` boundary, subnormals,
+/// huge values, infinities.
+fn scalar_edge_cases() -> Vec<f64> {
+    let mut v = vec![
+        0.0,
+        -0.0,
+        0.5,
+        -0.5,
+        1.5,
+        -1.5,
+        2.5,
+        -2.5,
+        0.49999999999999994,
+        -0.49999999999999994,
+        4503599627370496.0,
+        4503599627370495.5,
+        -4503599627370495.5,
+        9007199254740991.0,
+        f64::MIN_POSITIVE,
+        -f64::MIN_POSITIVE,
+        5e-324,
+        -5e-324,
+        f64::MAX,
+        f64::MIN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        1e300,
+        -1e300,
+    ];
+    for k in -70i32..=70 {
+        let x = 2f64.powi(k);
+        for y in [x, x.next_up(), x.next_down(), x + 0.5, x - 0.5] {
+            v.push(y);
+            v.push(-y);
+        }
+    }
+    v
+}
+
+/// `scalar::{fma, sqrt, floor, round}` are `libm`'s bit for bit (they are
+/// inlined replacements; a difference would change pinned values).
+#[test]
+fn inlined_scalar_primitives_equal_libm_bit_for_bit() {
+    use linesample::num::scalar;
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    let edges = scalar_edge_cases();
+    let mut rng = linesample::Pcg32::new(5, 9);
+    let mut rand = || {
+        // Random bit patterns (every exponent) and random values near 1.
+        let bits = (u64::from(rng.next_u32()) << 32) | u64::from(rng.next_u32());
+        f64::from_bits(bits)
+    };
+    let mut xs = edges.clone();
+    for _ in 0..200_000 {
+        xs.push(rand());
+    }
+    let mut n = 0usize;
+    for &x in &xs {
+        assert!(same(scalar::floor(x), libm::floor(x)), "floor({x:e})");
+        assert!(same(scalar::round(x), libm::round(x)), "round({x:e})");
+        assert!(same(scalar::sqrt(x), libm::sqrt(x)), "sqrt({x:e})");
+        n += 3;
+    }
+    // fma: edge triples (including exact cancellation, the case two_prod relies
+    // on) and random triples, with c = −a·b rounded so the result is the error.
+    for &a in edges.iter().step_by(3) {
+        for &b in edges.iter().step_by(7) {
+            for c in [0.0, -0.0, 1.0, -(a * b), a, -b] {
+                assert!(
+                    same(scalar::fma(a, b, c), libm::fma(a, b, c)),
+                    "fma({a:e}, {b:e}, {c:e})"
+                );
+                n += 1;
+            }
+        }
+    }
+    for _ in 0..200_000 {
+        let (a, b) = (rand(), rand());
+        for c in [rand(), -(a * b)] {
+            assert!(
+                same(scalar::fma(a, b, c), libm::fma(a, b, c)),
+                "fma({a:e}, {b:e}, {c:e})"
+            );
+            n += 1;
+        }
+        let (a, b) = (1.0 + rand().fract(), rand().fract());
+        let c = -(a * b);
+        assert!(
+            same(scalar::fma(a, b, c), libm::fma(a, b, c)),
+            "fma({a:e}, {b:e}, {c:e})"
+        );
+        n += 1;
+    }
+    println!("{n} comparisons, all bit-identical");
+}

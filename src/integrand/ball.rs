@@ -139,7 +139,7 @@ impl<const D: usize> Ball<D> {
         // ρ = |k| as a double-double: one rounding of |k|² (exact below 2⁵³),
         // then a Newton-corrected square root.
         let kk = ksq as f64;
-        let s = libm::sqrt(kk);
+        let s = crate::num::scalar::sqrt(kk);
         let (p, pe) = two_prod(s, s);
         let rho = {
             let (hi, lo) = two_sum(s, ((kk - p) - pe) / (2.0 * s));
@@ -184,6 +184,48 @@ impl<const D: usize> Ball<D> {
             let rho3 = rho.mul(rho).mul(rho).to_f64();
             g / (2.0 * PI * PI * rho3)
         }
+    }
+
+    /// Whether the segment `c0 + tω`, `|t| ≤ half`, is provably farther than
+    /// `r` from every image of the ball (then every piece's chord is exactly
+    /// 0 and the segment integral is `+0.0`, so returning it early changes no
+    /// bit; most short segments of a small ball take this exit).
+    ///
+    /// With `x = fl(c0 − c)` and `y = x − round(x)` (exact; `|y_j| ≤ 1/2`),
+    /// `y` is the offset from the nearest image of the centre up to
+    /// `e ≤ 2u·Σ|x_j|` (the rounding of `x`). Every other image is at least
+    /// `1/2 − e` from the midpoint along some axis, so farther than `r` from
+    /// the segment when `half + r + e < 1/2` (with a `10⁻⁹` margin). For the
+    /// nearest image the squared distance to the segment is
+    /// `|y|² − b²/a + a·max(|b|/a − half, 0)²` (`b = y·ω`, `a = |ω|²`; the
+    /// perpendicular part plus the overshoot along the line), computed in
+    /// `f64` with an absolute error below `10⁻¹⁵` (`|y|² ≤ 3/4`); it must
+    /// exceed `r²` by `10⁻¹³ + 4e` (the error of `y` moves the distance by
+    /// `e`, its square by `≤ 2.4e + e²`). The margin is far above what the
+    /// double-double chords need to return exactly 0.
+    #[inline]
+    fn misses_every_image(&self, c0: &[f64; D], w: &[f64; D], half: f64) -> bool {
+        let r = self.radius;
+        let mut y = [0.0; D];
+        let mut e = 0.0;
+        for j in 0..D {
+            let x = c0[j] - self.centre[j];
+            y[j] = x - crate::num::scalar::round(x);
+            e += x.abs();
+        }
+        let e = f64::EPSILON * e;
+        if !(half + r + e < 0.5 - 1e-9) {
+            return false;
+        }
+        let (mut yy, mut b, mut a) = (0.0, 0.0, 0.0);
+        for j in 0..D {
+            yy += y[j] * y[j];
+            b += y[j] * w[j];
+            a += w[j] * w[j];
+        }
+        let over = (b.abs() / a - half).max(0.0);
+        let d2 = yy - b * b / a + a * over * over;
+        d2 > r * r * (1.0 + 1e-12) + 1e-13 + 4.0 * e
     }
 
     /// [`Integrand::piece_integral`] with the offset `q0 = p − c` of the
@@ -404,22 +446,26 @@ impl<const D: usize> Integrand<D> for Ball<D> {
             return 0.0;
         }
         let c0 = seg.centre();
+        let dir = seg.dir();
+        if self.misses_every_image(&c0, &dir.get(), half) {
+            return 0.0;
+        }
         let mut c = [0.0; D];
         let mut cq = [Dd::new(0.0); D];
         for j in 0..D {
             c[j] = frac(c0[j]);
             // c0 − c is an integer up to the rounding of `frac` (≤ 2⁻⁵⁴, or
             // a result rounded to 1 returned as 0).
-            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::round(c0[j] - c[j])));
+            cq[j] = Dd::diff(c0[j], self.centre[j])
+                .sub(Dd::new(crate::num::scalar::round(c0[j] - c[j])));
         }
-        let dir = seg.dir();
         // |ω|² once per segment (the same value every piece would compute).
         let a2 = sphere::norm2(&dir.get());
         let mut sum = 0.0;
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
             let mut q0 = cq;
             for j in 0..D {
-                q0[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+                q0[j] = cq[j].sub(Dd::new(crate::num::scalar::round(c[j] - p[j])));
             }
             sum += self.piece_chords(p, &q0, &dir, a2, a, b);
         });

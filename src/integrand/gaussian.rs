@@ -168,7 +168,7 @@ impl<const D: usize> Gaussian<D> {
     fn reduced_offset(&self, x: f64, j: usize) -> Dd {
         // Exact: `frac(x)` would round for negative `x`.
         let d = Dd::diff(x, self.centre[j]);
-        d.sub(Dd::new(libm::round(d.hi)))
+        d.sub(Dd::new(crate::num::scalar::round(d.hi)))
     }
 
     /// 1D real-space image sum relative to the nearest image:
@@ -229,7 +229,7 @@ impl<const D: usize> Gaussian<D> {
         }
         let q = self.two_pi2_s2.to_f64();
         let kmax2 = TAIL / q;
-        let kmax = libm::floor(libm::sqrt(kmax2)) as i64;
+        let kmax = crate::num::scalar::floor(crate::num::scalar::sqrt(kmax2)) as i64;
         let mut sum = 0.0;
         let mut k = [0i64; D];
         // Odometer over [−kmax, kmax]^D, keeping k in the positive half space
@@ -310,11 +310,12 @@ impl<const D: usize> Gaussian<D> {
             // Largest distance to the nearest image of c_j over [lo, hi].
             let ya = lo[j] - self.centre[j];
             let yb = hi[j] - self.centre[j];
-            let dmax = if libm::floor(ya - 0.5) != libm::floor(yb - 0.5) {
+            let dmax = if crate::num::scalar::floor(ya - 0.5) != crate::num::scalar::floor(yb - 0.5)
+            {
                 0.5
             } else {
-                let da = (ya - libm::round(ya)).abs();
-                let db = (yb - libm::round(yb)).abs();
+                let da = (ya - crate::num::scalar::round(ya)).abs();
+                let db = (yb - crate::num::scalar::round(yb)).abs();
                 da.max(db)
             };
             dn2 += dmax * dmax;
@@ -322,11 +323,11 @@ impl<const D: usize> Gaussian<D> {
         // Images whose squared distance to the box exceeds R² can contribute at
         // most e^{−TAIL} relative to the nearest image, pointwise.
         let r2 = TAIL * self.two_s2.hi * (1.0 + 1e-9) + dn2;
-        let r = libm::sqrt(r2);
+        let r = crate::num::scalar::sqrt(r2);
         let mut mlo = [0i64; D];
         let mut mhi = [0i64; D];
         for j in 0..D {
-            mlo[j] = libm::floor(lo[j] - self.centre[j] - r) as i64;
+            mlo[j] = crate::num::scalar::floor(lo[j] - self.centre[j] - r) as i64;
             mhi[j] = libm::ceil(hi[j] - self.centre[j] + r) as i64;
         }
         let mut m = mlo;
@@ -576,7 +577,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         // centre is only used to walk the cells).
         let mut cq = [Dd::new(0.0); D];
         for j in 0..D {
-            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(libm::floor(c0[j])));
+            cq[j] = Dd::diff(c0[j], self.centre[j]).sub(Dd::new(crate::num::scalar::floor(c0[j])));
         }
         if self.sigma > SIGMA_SWITCH {
             return self.fourier_segment(&cq, &dir.get(), len);
@@ -589,7 +590,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
             let mut q = cq;
             for j in 0..D {
-                q[j] = cq[j].sub(Dd::new(libm::round(c[j] - p[j])));
+                q[j] = cq[j].sub(Dd::new(crate::num::scalar::round(c[j] - p[j])));
             }
             if a < b {
                 sum += self.piece_images(&q, &w, a, b);

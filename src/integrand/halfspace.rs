@@ -475,8 +475,8 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
                 let (a, b) = if a <= b { (a, b) } else { (b, a) };
                 // Covers the rounding of a and b.
                 let tol = 4.0 * f64::EPSILON * (c0[j].abs() + half);
-                lo[j] = libm::floor(a - tol);
-                hi[j] = libm::floor(b + tol);
+                lo[j] = crate::num::scalar::floor(a - tol);
+                hi[j] = crate::num::scalar::floor(b + tol);
             }
             let mut m = lo;
             let mut sum = 0.0;

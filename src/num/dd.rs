@@ -40,7 +40,7 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
 #[must_use]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
-    let e = libm::fma(a, b, -p);
+    let e = crate::num::scalar::fma(a, b, -p);
     (p, e)
 }
 
@@ -180,9 +180,9 @@ impl Dd {
     #[must_use]
     pub fn sqrt(self) -> Self {
         if self.hi <= 0.0 || !self.hi.is_finite() {
-            return Self::new(libm::sqrt(self.hi));
+            return Self::new(crate::num::scalar::sqrt(self.hi));
         }
-        let s = libm::sqrt(self.hi);
+        let s = crate::num::scalar::sqrt(self.hi);
         let (p, pe) = two_prod(s, s);
         let c = (((self.hi - p) - pe) + self.lo) / (2.0 * s);
         let (hi, lo) = two_sum(s, c);

@@ -307,7 +307,7 @@ mod tests {
             // The fused product keeps the −ε² that an unfused one rounds away.
             assert_eq!(
                 out[l].to_bits(),
-                libm::fma(x[l], y[l], z[l]).to_bits(),
+                crate::num::scalar::fma(x[l], y[l], z[l]).to_bits(),
                 "fma {l}"
             );
             let s = <f64 as Lane>::lt_select(x[l], y[l], x[l], z[l]);

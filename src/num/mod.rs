@@ -5,6 +5,8 @@
 //!   and [`sum_accurate`] for sums that cancel).
 //! * [`complex`]: [`Complex`] numbers for Fourier coefficients and amplitudes.
 //! * [`phase`]: exact phase reduction and `e^{−2πiθ}`, [`sinc`].
+//! * [`scalar`]: inlined `fma`, `sqrt`, `floor`, `round`, bit-identical to
+//!   `libm`'s (which are never inlined without link-time optimisation).
 //! * [`torus`]: wrapping onto the unit torus `[0, 1)` and toroidal differences.
 //! * `lane` (crate-private): the one SIMD lane abstraction behind every `f32`
 //!   and `f64` batch kernel (scalar reference path and `wide` vectors).
@@ -17,6 +19,7 @@ pub mod complex;
 pub mod dd;
 pub(crate) mod lane;
 pub mod phase;
+pub mod scalar;
 pub mod torus;
 
 pub use complex::Complex;

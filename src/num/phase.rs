@@ -26,9 +26,9 @@ pub fn frac_centered(x: Dd) -> f64 {
     if !x.hi.is_finite() {
         return f64::NAN;
     }
-    let r = x.hi - libm::round(x.hi); // exact
+    let r = x.hi - crate::num::scalar::round(x.hi); // exact
     let s = r + x.lo;
-    s - libm::round(s)
+    s - crate::num::scalar::round(s)
 }
 
 /// `(cos 2πt, sin 2πt)` for `t ∈ [−1/2, 1/2]`: exact at multiples of `1/4`
@@ -38,7 +38,7 @@ pub fn frac_centered(x: Dd) -> f64 {
 #[must_use]
 pub fn cos_sin_turns(t: f64) -> (f64, f64) {
     let u = 4.0 * t; // exact
-    let q = libm::round(u);
+    let q = crate::num::scalar::round(u);
     let w = u - q; // exact, |w| ≤ 1/2
     let th = w * (TAU / 4.0);
     let (s, c) = (libm::sin(th), libm::cos(th));
@@ -71,7 +71,9 @@ pub fn dot_turns<const D: usize>(k: &[i32; D], x: &[f64; D]) -> Dd {
     let mut acc = Dd::ZERO;
     for j in 0..D {
         let (p, e) = super::dd::two_prod(f64::from(k[j]), x[j]);
-        acc = acc.add(Dd::new(p - libm::round(p))).add(Dd::new(e));
+        acc = acc
+            .add(Dd::new(p - crate::num::scalar::round(p)))
+            .add(Dd::new(e));
     }
     acc
 }

@@ -31,7 +31,7 @@ pub fn frac(x: f64) -> f64 {
     } else if (1.0..2.0).contains(&x) {
         x - 1.0
     } else {
-        x - libm::floor(x)
+        x - crate::num::scalar::floor(x)
     };
     if f >= 1.0 {
         0.0
@@ -89,7 +89,7 @@ mod tests {
         for x in [
             -2.5, -1.0, -0.75, -1e-20, -0.0, 0.0, 0.25, 1.0, 1.5, 2.0, 7.25, 1e17, -1e17,
         ] {
-            let f = x - libm::floor(x);
+            let f = x - crate::num::scalar::floor(x);
             let want = if f >= 1.0 { 0.0 } else { f };
             assert_eq!(frac(x).to_bits(), want.to_bits(), "{x}");
         }

@@ -639,7 +639,7 @@ mod imp {
                 r2 = r2.max(d);
                 e += d;
             }
-            self.radius[i] = libm::sqrt(r2);
+            self.radius[i] = crate::num::scalar::sqrt(r2);
             self.energy[i] = e;
         }
 
@@ -651,8 +651,8 @@ mod imp {
             let mut lo = [0i64; D];
             let mut len = [0i64; D];
             for j in 0..D {
-                let a = libm::floor((s[j] - r) * g as f64) as i64;
-                let b = libm::floor((s[j] + r) * g as f64) as i64;
+                let a = crate::num::scalar::floor((s[j] - r) * g as f64) as i64;
+                let b = crate::num::scalar::floor((s[j] + r) * g as f64) as i64;
                 if b - a + 1 >= g {
                     lo[j] = 0;
                     len[j] = g;

@@ -83,7 +83,7 @@ impl<const D: usize> Jittered<D> {
         if n == 0 {
             return Err(PatternError::ZeroPoints);
         }
-        let m = libm::round(libm::pow(n as f64, 1.0 / D as f64)) as usize;
+        let m = crate::num::scalar::round(libm::pow(n as f64, 1.0 / D as f64)) as usize;
         Self::with_n(n, [m.max(1); D])
     }
 

@@ -59,7 +59,7 @@ impl Grid {
     /// `cols` = the largest divisor of `n` not above `√n`, `rows = n / cols`.
     fn new(n: usize, correlated: bool) -> Result<Self, PatternError> {
         check_n(n, MAX_STRATA)?;
-        let mut cols = libm::sqrt(n as f64) as usize;
+        let mut cols = crate::num::scalar::sqrt(n as f64) as usize;
         while cols * cols > n {
             cols -= 1;
         }

@@ -129,7 +129,7 @@ pub fn poisson_max_radius(n: usize, dims: usize) -> f64 {
     let n = n as f64;
     match dims {
         1 => 1.0 / n,
-        2 => libm::sqrt(2.0 / (libm::sqrt(3.0) * n)),
+        2 => crate::num::scalar::sqrt(2.0 / (crate::num::scalar::sqrt(3.0) * n)),
         3 => libm::cbrt(core::f64::consts::SQRT_2 / n),
         _ => f64::NAN,
     }
@@ -148,8 +148,8 @@ impl<const D: usize> PoissonDisk<D> {
         if !(radius.is_finite() && radius > 0.0) {
             return Err(PatternError::Radius);
         }
-        let sd = libm::sqrt(D as f64);
-        let gf = libm::floor(sd / radius) + 1.0;
+        let sd = crate::num::scalar::sqrt(D as f64);
+        let gf = crate::num::scalar::floor(sd / radius) + 1.0;
         let cells_f = libm::pow(gf, D as f64);
         let max_cells = if D == 1 {
             POISSON_MAX_CELLS_1D
@@ -173,7 +173,7 @@ impl<const D: usize> PoissonDisk<D> {
         let reach = if radius * gf >= gf {
             g
         } else {
-            libm::floor(radius * gf) as usize + 1
+            crate::num::scalar::floor(radius * gf) as usize + 1
         };
         // Disks of radius r/2 around the points are disjoint, and for r ≤ 1 such a
         // disk embeds in the unit torus: N·V_D(r/2) ≤ 1.
@@ -184,7 +184,7 @@ impl<const D: usize> PoissonDisk<D> {
                 2 => core::f64::consts::PI * h * h,
                 _ => 4.0 / 3.0 * core::f64::consts::PI * h * h * h,
             };
-            let b = libm::floor(1.0 / vol) + 1.0;
+            let b = crate::num::scalar::floor(1.0 / vol) + 1.0;
             if b < cells as f64 {
                 b as usize
             } else {
@@ -319,7 +319,7 @@ impl<const D: usize> PoissonDisk<D> {
     #[must_use]
     pub fn coverage_slack(&self) -> f64 {
         let w = 1.0 / (self.g as f64 * f64::from(1u32 << FILL_DEPTH));
-        libm::sqrt(D as f64) * (w + 1.0 / 8_388_608.0)
+        crate::num::scalar::sqrt(D as f64) * (w + 1.0 / 8_388_608.0)
     }
 
     /// Runs the generator: writes the points to `out[..count]` and returns `count`.
@@ -804,7 +804,7 @@ impl<const D: usize> State<'_, D> {
             }
             2 => {
                 // P(|y − p| < ρ) = (ρ² − r²)/(3r²)
-                let rho = r * libm::sqrt(1.0 + 3.0 * u);
+                let rho = r * crate::num::scalar::sqrt(1.0 + 3.0 * u);
                 let (s, c) = libm::sincos(core::f64::consts::TAU * unit_f64_32(rng));
                 off[0] = rho * c;
                 off[1] = rho * s;
@@ -814,7 +814,7 @@ impl<const D: usize> State<'_, D> {
                 // (Archimedes: z uniform in [−1, 1]).
                 let rho = r * libm::cbrt(1.0 + 7.0 * u);
                 let z = 1.0 - 2.0 * unit_f64_32(rng);
-                let h = libm::sqrt((1.0 - z * z).max(0.0));
+                let h = crate::num::scalar::sqrt((1.0 - z * z).max(0.0));
                 let (s, c) = libm::sincos(core::f64::consts::TAU * unit_f64_32(rng));
                 off[0] = rho * h * c;
                 off[1] = rho * h * s;
@@ -952,7 +952,7 @@ impl<const D: usize> State<'_, D> {
         let mut x = [0.0f32; D];
         for j in 0..D {
             let mut v = ((lo[j] + w * unit_f64_32(rng)) as f32).min(ONE_MINUS_EPSILON);
-            let cell = |v: f32| libm::floor(f64::from(v) * self.gf);
+            let cell = |v: f32| crate::num::scalar::floor(f64::from(v) * self.gf);
             let cj = c[j] as f64;
             if cell(v) > cj {
                 v = f32::from_bits(v.to_bits() - 1);

@@ -339,7 +339,7 @@ impl<const D: usize> Grid<D> {
 /// `round(√m)` for an integer `m`, exactly: the `r` with `r² − r < m ≤ r² + r`.
 fn ring_of(m: u64) -> u64 {
     // A first guess (the cast truncates √m + ½); the loops make it exact.
-    let mut r = (libm::sqrt(m as f64) + 0.5) as u64;
+    let mut r = (crate::num::scalar::sqrt(m as f64) + 0.5) as u64;
     while r > 0 && m <= r * r - r {
         r -= 1;
     }
@@ -889,7 +889,7 @@ mod tests {
     #[test]
     fn ring_of_is_exact_rounding() {
         for m in 0..100_000u64 {
-            let r = libm::round(libm::sqrt(m as f64)) as u64;
+            let r = crate::num::scalar::round(crate::num::scalar::sqrt(m as f64)) as u64;
             // round(√m) and the integer rule agree except exactly at m = r² ± r,
             // which cannot be a half (√m = r ± ½ needs m = r² ± r + ¼).
             assert_eq!(ring_of(m), r, "m = {m}");

@@ -375,8 +375,8 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
     // (−7.3e211, …) 1.9e50); an ordinary ray (offset ≈ u|q| ≪ r) takes one
     // pass. Each pass shrinks the offset by about 2⁻⁵⁰, so 25 reach r from any
     // finite point (|p − c| ≤ 10³⁰⁸, r ≥ 10⁻¹⁰⁰).
-    let rf = libm::sqrt(r2.hi);
-    let sa = libm::sqrt(a.hi);
+    let rf = crate::num::scalar::sqrt(r2.hi);
+    let sa = crate::num::scalar::sqrt(a.hi);
     let mut qp = *q;
     let mut tau = Dd::ZERO;
     // Σ|q_j| of the point the last shift was computed from (its rounding
@@ -503,7 +503,7 @@ fn surely_empty<const D: usize>(
     if d2 > r2_hi + err {
         return true;
     }
-    let hmax = libm::sqrt(((r2_hi - d2 + err) / a).max(0.0)) * (1.0 + 8.0 * EPS);
+    let hmax = crate::num::scalar::sqrt(((r2_hi - d2 + err) / a).max(0.0)) * (1.0 + 8.0 * EPS);
     let mt = 8.0 * EPS * (s + tm.abs() + hmax);
     t1 < tm - hmax - mt || t0 > tm + hmax + mt
 }
