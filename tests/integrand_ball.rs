@@ -1568,5 +1568,8 @@ fn short_segment_early_exit_is_exact_at_the_boundary() {
             hits[1] += 1;
         }
     }
-    println!("{n} boundary segments; random: {} miss, {} hit", hits[0], hits[1]);
+    println!(
+        "{n} boundary segments; random: {} miss, {} hit",
+        hits[0], hits[1]
+    );
 }
