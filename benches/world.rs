@@ -162,6 +162,14 @@ fn world(c: &mut Criterion) {
             }
         })
     });
+    g.bench_function(BenchmarkId::new("f64 exact, segments", N), |b| {
+        b.iter(|| {
+            for (i, o) in out64.iter_mut().enumerate() {
+                let (t0, t1) = segs.ends(i);
+                *o = sphere.segment(black_box(&segs.rays64[i]), t0, t1);
+            }
+        })
+    });
     g.bench_function(BenchmarkId::new("f64 hit (entry, exit)", N), |b| {
         b.iter(|| {
             for (o, r) in out64.iter_mut().zip(&lines.rays64) {

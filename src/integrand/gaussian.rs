@@ -35,6 +35,13 @@ const SIGMA_SWITCH: f64 = Gaussian::<2>::SIGMA_SWITCH;
 /// are dropped (`e^{−45} ≈ 2.9e−20`).
 const TAIL: f64 = 45.0;
 
+/// Most candidate images a piece sorts by distance (`Gaussian::sorted_images`);
+/// more (3D, σ near [`SIGMA_SWITCH`]) take the odometer order.
+const MAX_SORTED: usize = 160;
+
+/// `2⁻⁶⁰`: the relative size below which the remaining images are dropped.
+const TWO_M60: f64 = 8.673_617_379_884_035e-19;
+
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
 
@@ -338,6 +345,13 @@ impl<const D: usize> Gaussian<D> {
         // min(piece length, σ√(2π)/|ω|) times e^{−d²/2σ²}, d its distance to
         // the piece's box (|ω| = 1 up to 4u; the slack is in `below_half_ulp`).
         let cap = self.norm * (t1 - t0).min(2.506_628_274_631_000_7 * self.sigma);
+        let mut count = 1i64;
+        for j in 0..D {
+            count = count.saturating_mul(mhi[j] - mlo[j] + 1);
+        }
+        if count <= MAX_SORTED as i64 {
+            return self.sorted_images(q, w, &k, t0, t1, &lo, &hi, r2, &mlo, &mhi, cap);
+        }
         loop {
             let mut d2 = 0.0;
             for j in 0..D {
@@ -365,6 +379,114 @@ impl<const D: usize> Gaussian<D> {
                 j += 1;
             }
         }
+    }
+
+    /// The image sum of [`Self::piece_images`] over the candidate images
+    /// (those within `r` of the piece's box, offsets `mlo..=mhi`), nearest
+    /// first, stopped when the rest provably cannot reach `2⁻⁶⁰` of the sum.
+    ///
+    /// Each candidate gets a lower bound `δ²` on its squared distance from
+    /// the piece itself (not its box): the perpendicular part
+    /// `ρ² = |y|² − (y·ω)²/a` (`y` the image's offset in `f64`) and the
+    /// overshoot `τ` of the foot beyond `[t0, t1]`, each reduced by a margin
+    /// far above their rounding (`10⁻¹²` relative plus `10⁻¹⁴(|y|² + 1)`
+    /// absolute for `ρ²`, `10⁻¹²(1 + |t_f| + |t0| + |t1|)` for `τ`). Along
+    /// the piece the integrand is at most `e^{−(ρ² + aτ²)/2σ²}` times the
+    /// 1D Gaussian beyond the foot, so the image's integral is at most
+    /// `cap·e^{−δ²/2σ²}` (`cap = peak·min(length, σ√(2π))`, with the slack of
+    /// [`Self::below_half_ulp`]). After sorting by `δ²`, once the sum is
+    /// positive and `(remaining count)·cap·e^{−δ²_next/2σ²} < 2⁻⁶⁰·sum`,
+    /// the remaining images are dropped: a relative truncation below
+    /// `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest first
+    /// is also the accurate order. For an oblique piece this evaluates only
+    /// the images near the line, where the box test keeps every image near
+    /// the box.
+    #[allow(clippy::too_many_arguments)]
+    fn sorted_images(
+        &self,
+        q: &[Dd; D],
+        w: &[f64; D],
+        k: &crate::world::gaussian::LineConsts,
+        t0: f64,
+        t1: f64,
+        lo: &[f64; D],
+        hi: &[f64; D],
+        r2: f64,
+        mlo: &[i64; D],
+        mhi: &[i64; D],
+        cap: f64,
+    ) -> f64 {
+        let mut key = [0.0f64; MAX_SORTED];
+        let mut img = [[0i64; D]; MAX_SORTED];
+        let mut n = 0usize;
+        let mut a = 0.0;
+        for j in 0..D {
+            a += w[j] * w[j];
+        }
+        let fin = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
+        let mut m = *mlo;
+        'walk: loop {
+            let mut d2 = 0.0;
+            for j in 0..D {
+                let cm = self.centre[j] + m[j] as f64;
+                let d = (lo[j] - cm).max(cm - hi[j]).max(0.0);
+                d2 += d * d;
+            }
+            if d2 <= r2 {
+                let mut yy = 0.0;
+                let mut b = 0.0;
+                for j in 0..D {
+                    let y = q[j].hi - m[j] as f64;
+                    yy += y * y;
+                    b += y * w[j];
+                }
+                let rho2 = (yy - b * b / a) * (1.0 - 1e-12) - 1e-14 * (yy + 1.0);
+                let tf = -b / a;
+                let tau = (t0 - tf).max(tf - t1) - 1e-12 * (1.0 + tf.abs() + fin(t0) + fin(t1));
+                let tau = tau.max(0.0);
+                let dist2 = rho2.max(0.0) + a * tau * tau * (1.0 - 1e-12);
+                // Insertion into the sorted prefix (stable: ties keep the walk order).
+                let mut i = n;
+                while i > 0 && key[i - 1] > dist2 {
+                    key[i] = key[i - 1];
+                    img[i] = img[i - 1];
+                    i -= 1;
+                }
+                key[i] = dist2;
+                img[i] = m;
+                n += 1;
+            }
+            let mut j = 0;
+            loop {
+                if j == D {
+                    break 'walk;
+                }
+                if m[j] < mhi[j] {
+                    m[j] += 1;
+                    break;
+                }
+                m[j] = mlo[j];
+                j += 1;
+            }
+        }
+        let mut sum = 0.0;
+        for i in 0..n {
+            if sum > 0.0 {
+                let rest = (n - i) as f64
+                    * cap
+                    * libm::exp(-key[i] * (1.0 - 1e-9) / self.two_s2.hi)
+                    * (1.0 + 1e-6);
+                if rest < TWO_M60 * sum {
+                    break;
+                }
+            }
+            let mut qm = *q;
+            for j in 0..D {
+                qm[j] = q[j].sub(Dd::new(img[i][j] as f64));
+            }
+            sum += self.free.segment_with(&qm, w, k, t0, t1);
+        }
+        sum
     }
 
     /// `(p + t_m ω) − c` in double-double, `t_m` the midpoint of `[t0, t1]`.
