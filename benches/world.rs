@@ -123,6 +123,20 @@ fn world(c: &mut Criterion) {
         }
         gauss.segment_batch_f32(&rs.rays(), &mut out32).unwrap();
         report(name, &out64, &out32, line_peak);
+        // The plain-f64 path against the exact one: its worst relative error
+        // and worst run-time bound R.
+        let (mut err, mut rmax) = (0.0f64, 0.0f64);
+        for i in 0..N {
+            let (a, b) = rs.ends(i);
+            let (v, r) = gauss.segment_fast(&rs.rays64[i], a, b);
+            if out64[i] != 0.0 {
+                err = err.max(((v - out64[i]) / out64[i]).abs());
+            }
+            rmax = rmax.max(r);
+        }
+        println!(
+            "{name:<34} f64 segment_fast: max relative error {err:.2e}, max bound R {rmax:.2e}"
+        );
     }
     for i in 0..N {
         out64[i] = gauss.transmittance(
@@ -192,6 +206,14 @@ fn world(c: &mut Criterion) {
             for i in 0..N {
                 let (t0, t1) = segs.ends(i);
                 out64[i] = gauss.segment(black_box(&segs.rays64[i]), t0, t1);
+            }
+        })
+    });
+    g.bench_function(BenchmarkId::new("f64 fast, with error bound", N), |b| {
+        b.iter(|| {
+            for i in 0..N {
+                let (t0, t1) = segs.ends(i);
+                out64[i] = gauss.segment_fast(black_box(&segs.rays64[i]), t0, t1).0;
             }
         })
     });

@@ -167,6 +167,10 @@ fn rel(a: f64, b: f64) -> f64 {
 /// Accumulators for one family of cases.
 struct Acc {
     segment: Worst,
+    /// `segment_fast` against its own run-time bound `R`.
+    fast: Worst,
+    /// Cases where `segment_fast` gave a finite bound, and all cases.
+    fast_used: (usize, usize),
     line: Worst,
     value: Worst,
     depth: Worst,
@@ -178,6 +182,8 @@ impl Acc {
     fn new(what: &str) -> Self {
         Acc {
             segment: Worst::new(format!("{what}: segment")),
+            fast: Worst::new(format!("{what}: segment_fast (bound: its own R)")),
+            fast_used: (0, 0),
             line: Worst::new(format!("{what}: line")),
             value: Worst::new(format!("{what}: value")),
             depth: Worst::new(format!("{what}: optical_depth")),
@@ -186,7 +192,12 @@ impl Acc {
         }
     }
     fn finish(&self) {
+        println!(
+            "segment_fast gave a finite bound in {} of {} cases",
+            self.fast_used.0, self.fast_used.1
+        );
         self.segment.finish();
+        self.fast.finish();
         self.line.finish();
         self.value.finish();
         self.depth.finish();
@@ -236,6 +247,16 @@ fn check<const D: usize>(
     acc.segment.add_value(got, want, SEG_BOUND, ctx);
     if t0 < t1 {
         assert_eq!(g.segment(ray, t1, t0), -got, "reversed: {}", ctx());
+    }
+    // The plain-f64 path against the same reference, within its own bound.
+    let (fv, fr) = g.segment_fast(ray, t0, t1);
+    acc.fast_used.1 += 1;
+    if fr.is_finite() && want.abs() >= f64::MIN_POSITIVE {
+        acc.fast_used.0 += 1;
+        // R is relative to the exact value; the reference is rounded once.
+        acc.fast.add(rel(fv, want), fr + ULP, || {
+            format!("got {fv:e} want {want:e} R {fr:e}: {}", ctx())
+        });
     }
     let lw = r.line(&o, &w);
     acc.line.add_value(g.line(ray), lw, SEG_BOUND, ctx);

@@ -37,10 +37,17 @@ const TAIL: f64 = 45.0;
 
 /// Most candidate images a piece sorts by distance (`Gaussian::sorted_images`);
 /// more (3D, σ near [`SIGMA_SWITCH`]) take the odometer order.
-const MAX_SORTED: usize = 160;
+const MAX_SORTED: usize = 96;
+
+/// Most image offsets per axis in `Gaussian::sorted_images`.
+const AXIS: usize = 12;
 
 /// `2⁻⁶⁰`: the relative size below which the remaining images are dropped.
 const TWO_M60: f64 = 8.673_617_379_884_035e-19;
+
+/// `2⁻²⁴`: images bounded below this share of the sum try the plain-`f64`
+/// evaluation (`Gaussian::segment_cheap` of the free-space form).
+const TWO_M24: f64 = 5.960_464_477_539_063e-8;
 
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
@@ -301,7 +308,14 @@ impl<const D: usize> Gaussian<D> {
 
     /// Periodised integral over the piece `c + q + tω`, `t ∈ [t0, t1]`, by
     /// real-space images; `q` (the piece origin minus the centre) is exact.
-    fn piece_images(&self, q: &[Dd; D], w: &[f64; D], t0: f64, t1: f64) -> f64 {
+    fn piece_images(
+        &self,
+        q: &[Dd; D],
+        w: &[f64; D],
+        k: &crate::world::gaussian::LineConsts,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
         if !(t1 - t0).is_finite() {
             return f64::INFINITY;
         }
@@ -335,22 +349,16 @@ impl<const D: usize> Gaussian<D> {
         let mut mhi = [0i64; D];
         for j in 0..D {
             mlo[j] = crate::num::scalar::floor(lo[j] - self.centre[j] - r) as i64;
-            mhi[j] = libm::ceil(hi[j] - self.centre[j] + r) as i64;
+            mhi[j] = -crate::num::scalar::floor(-(hi[j] - self.centre[j] + r)) as i64;
         }
         let mut m = mlo;
         let mut sum = 0.0;
-        // The direction's constants once per piece, not once per image.
-        let k = self.free.line_consts(w);
         // Any image's integral over the piece is at most its peak times
         // min(piece length, σ√(2π)/|ω|) times e^{−d²/2σ²}, d its distance to
         // the piece's box (|ω| = 1 up to 4u; the slack is in `below_half_ulp`).
         let cap = self.norm * (t1 - t0).min(2.506_628_274_631_000_7 * self.sigma);
-        let mut count = 1i64;
-        for j in 0..D {
-            count = count.saturating_mul(mhi[j] - mlo[j] + 1);
-        }
-        if count <= MAX_SORTED as i64 {
-            return self.sorted_images(q, w, &k, t0, t1, &lo, &hi, r2, &mlo, &mhi, cap);
+        if let Some(v) = self.sorted_images(q, w, k, t0, t1, &lo, &hi, r2, &mlo, &mhi, cap) {
+            return v;
         }
         loop {
             let mut d2 = 0.0;
@@ -364,7 +372,7 @@ impl<const D: usize> Gaussian<D> {
                 for j in 0..D {
                     qm[j] = q[j].sub(Dd::new(m[j] as f64));
                 }
-                sum += self.free.segment_with(&qm, w, &k, t0, t1);
+                sum += self.free.segment_with(&qm, w, k, t0, t1);
             }
             let mut j = 0;
             loop {
@@ -383,7 +391,9 @@ impl<const D: usize> Gaussian<D> {
 
     /// The image sum of [`Self::piece_images`] over the candidate images
     /// (those within `r` of the piece's box, offsets `mlo..=mhi`), nearest
-    /// first, stopped when the rest provably cannot reach `2⁻⁶⁰` of the sum.
+    /// first, stopped when the rest provably cannot reach `2⁻⁶⁰` of the sum;
+    /// `None` when there are more than `MAX_SORTED` candidates or `AXIS`
+    /// offsets per axis (the caller then walks them in odometer order).
     ///
     /// Each candidate gets a lower bound `δ²` on its squared distance from
     /// the piece itself (not its box): the perpendicular part
@@ -400,7 +410,11 @@ impl<const D: usize> Gaussian<D> {
     /// `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest first
     /// is also the accurate order. For an oblique piece this evaluates only
     /// the images near the line, where the box test keeps every image near
-    /// the box.
+    /// the box. An image bounded below `2⁻²⁴` of the running sum is first
+    /// evaluated in plain `f64` ([`crate::world::Gaussian::segment_fast`]'s
+    /// kernel, relative error bound `R` computed with it) and kept when
+    /// `bound·R < 2⁻⁶⁰·sum` (about 3× cheaper than the double-double form);
+    /// the sum's total error from both shortcuts stays below `n·2⁻⁶⁰` of it.
     #[allow(clippy::too_many_arguments)]
     fn sorted_images(
         &self,
@@ -415,34 +429,69 @@ impl<const D: usize> Gaussian<D> {
         mlo: &[i64; D],
         mhi: &[i64; D],
         cap: f64,
-    ) -> f64 {
+    ) -> Option<f64> {
+        // Per axis, the image offsets whose distance to the box alone is
+        // within r (at most AXIS of them), with their squared distances.
+        let mut axd = [[0.0f64; AXIS]; D];
+        let mut axm = [[0i16; AXIS]; D];
+        let mut axn = [0usize; D];
+        for j in 0..D {
+            if mhi[j] - mlo[j] >= AXIS as i64 || mlo[j] < -1000 || mhi[j] > 1000 {
+                return None;
+            }
+            for mj in mlo[j]..=mhi[j] {
+                let cm = self.centre[j] + mj as f64;
+                let d = (lo[j] - cm).max(cm - hi[j]).max(0.0);
+                if d * d <= r2 {
+                    axd[j][axn[j]] = d * d;
+                    axm[j][axn[j]] = mj as i16;
+                    axn[j] += 1;
+                }
+            }
+            if axn[j] == 0 {
+                return Some(0.0);
+            }
+        }
+        let mut cells = 1usize;
+        for j in 0..D {
+            cells *= axn[j];
+        }
+        if cells > 2 * MAX_SORTED {
+            // More candidates than fit, almost surely (a ball fills about half
+            // of its bounding box in 3D): the odometer order instead.
+            return None;
+        }
         let mut key = [0.0f64; MAX_SORTED];
-        let mut img = [[0i64; D]; MAX_SORTED];
+        let mut img = [[0i16; D]; MAX_SORTED];
         let mut n = 0usize;
         let mut a = 0.0;
         for j in 0..D {
             a += w[j] * w[j];
         }
         let fin = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
-        let mut m = *mlo;
+        let slack = 1e-12 * (1.0 + fin(t0) + fin(t1));
+        let mut ix = [0usize; D];
         'walk: loop {
             let mut d2 = 0.0;
             for j in 0..D {
-                let cm = self.centre[j] + m[j] as f64;
-                let d = (lo[j] - cm).max(cm - hi[j]).max(0.0);
-                d2 += d * d;
+                d2 += axd[j][ix[j]];
             }
             if d2 <= r2 {
+                if n == MAX_SORTED {
+                    return None;
+                }
                 let mut yy = 0.0;
                 let mut b = 0.0;
+                let mut m = [0i16; D];
                 for j in 0..D {
-                    let y = q[j].hi - m[j] as f64;
+                    m[j] = axm[j][ix[j]];
+                    let y = q[j].hi - f64::from(m[j]);
                     yy += y * y;
                     b += y * w[j];
                 }
                 let rho2 = (yy - b * b / a) * (1.0 - 1e-12) - 1e-14 * (yy + 1.0);
                 let tf = -b / a;
-                let tau = (t0 - tf).max(tf - t1) - 1e-12 * (1.0 + tf.abs() + fin(t0) + fin(t1));
+                let tau = (t0 - tf).max(tf - t1) - (slack + 1e-12 * tf.abs());
                 let tau = tau.max(0.0);
                 let dist2 = rho2.max(0.0) + a * tau * tau * (1.0 - 1e-12);
                 // Insertion into the sorted prefix (stable: ties keep the walk order).
@@ -461,32 +510,44 @@ impl<const D: usize> Gaussian<D> {
                 if j == D {
                     break 'walk;
                 }
-                if m[j] < mhi[j] {
-                    m[j] += 1;
+                if ix[j] + 1 < axn[j] {
+                    ix[j] += 1;
                     break;
                 }
-                m[j] = mlo[j];
+                ix[j] = 0;
                 j += 1;
             }
         }
         let mut sum = 0.0;
         for i in 0..n {
             if sum > 0.0 {
-                let rest = (n - i) as f64
-                    * cap
-                    * libm::exp(-key[i] * (1.0 - 1e-9) / self.two_s2.hi)
-                    * (1.0 + 1e-6);
-                if rest < TWO_M60 * sum {
+                let bound = cap * libm::exp(-key[i] * (1.0 - 1e-9) / self.two_s2.hi) * (1.0 + 1e-6);
+                if (n - i) as f64 * bound < TWO_M60 * sum {
                     break;
+                }
+                if bound < TWO_M24 * sum {
+                    // A far image: plain f64 is enough when its error, at most
+                    // bound·R, is below 2⁻⁶⁰ of the sum.
+                    let mut y = [0.0; D];
+                    let mut dy = 0.0f64;
+                    for j in 0..D {
+                        y[j] = q[j].hi - f64::from(img[i][j]);
+                        dy = dy.max(2.0 * f64::EPSILON * (q[j].hi.abs() + y[j].abs()));
+                    }
+                    let (v, rel) = self.free.segment_cheap(&y, dy, w, k, t0, t1);
+                    if bound * rel < TWO_M60 * sum {
+                        sum += v;
+                        continue;
+                    }
                 }
             }
             let mut qm = *q;
             for j in 0..D {
-                qm[j] = q[j].sub(Dd::new(img[i][j] as f64));
+                qm[j] = q[j].sub(Dd::new(f64::from(img[i][j])));
             }
             sum += self.free.segment_with(&qm, w, k, t0, t1);
         }
-        sum
+        Some(sum)
     }
 
     /// `(p + t_m ω) − c` in double-double, `t_m` the midpoint of `[t0, t1]`.
@@ -652,7 +713,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         for j in 0..D {
             q[j] = Dd::diff(p[j], self.centre[j]);
         }
-        self.piece_images(&q, &w, t0, t1)
+        self.piece_images(&q, &w, &self.free.line_consts(&w), t0, t1)
     }
 
     /// The periodised value at the centre (`max f`).
@@ -707,6 +768,8 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         // As the provided method, but with each piece's origin `c − m` (which
         // `for_each_piece` rounds) rebuilt exactly as a double-double.
         let w = dir.get();
+        // The direction's constants once per segment, not once per piece.
+        let k = self.free.line_consts(&w);
         let half = 0.5 * len;
         let mut sum = 0.0;
         for_each_piece(&c, &dir, -half, half, |p, a, b| {
@@ -715,7 +778,7 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
                 q[j] = cq[j].sub(Dd::new(crate::num::scalar::round(c[j] - p[j])));
             }
             if a < b {
-                sum += self.piece_images(&q, &w, a, b);
+                sum += self.piece_images(&q, &w, &k, a, b);
             }
         });
         sum
@@ -742,6 +805,6 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
         for j in 0..D {
             q[j] = Dd::diff(p[j], self.centre[j]);
         }
-        self.piece_images(&q, &w, t0, t1)
+        self.piece_images(&q, &w, &self.free.line_consts(&w), t0, t1)
     }
 }
