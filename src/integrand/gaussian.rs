@@ -399,7 +399,7 @@ impl<const D: usize> Gaussian<D> {
     /// the piece itself (not its box): the perpendicular part
     /// `ρ² = |y|² − (y·ω)²/a` (`y` the image's offset in `f64`) and the
     /// overshoot `τ` of the foot beyond `[t0, t1]`, each reduced by a margin
-    /// far above their rounding (`10⁻¹²` relative plus `10⁻¹⁴(|y|² + 1)`
+    /// far above their rounding (`10⁻¹²` relative plus `10⁻¹⁴(|y|² + |q|² + 1)`
     /// absolute for `ρ²`, `10⁻¹²(1 + |t_f| + |t0| + |t1|)` for `τ`). Along
     /// the piece the integrand is at most `e^{−(ρ² + aτ²)/2σ²}` times the
     /// 1D Gaussian beyond the foot, so the image's integral is at most
@@ -470,6 +470,10 @@ impl<const D: usize> Gaussian<D> {
         }
         let fin = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
         let slack = 1e-12 * (1.0 + fin(t0) + fin(t1));
+        let mut qq = 0.0;
+        for j in 0..D {
+            qq += q[j].hi * q[j].hi;
+        }
         let mut ix = [0usize; D];
         'walk: loop {
             let mut d2 = 0.0;
@@ -489,7 +493,9 @@ impl<const D: usize> Gaussian<D> {
                     yy += y * y;
                     b += y * w[j];
                 }
-                let rho2 = (yy - b * b / a) * (1.0 - 1e-12) - 1e-14 * (yy + 1.0);
+                // The margin covers the roundings (≤ 6u·|y|²) and the offset's
+                // error (|δy| ≤ 2u|q|, moving ρ² by ≤ 2ρ|δy| ≤ 2u(|y|² + |q|²)).
+                let rho2 = (yy - b * b / a) * (1.0 - 1e-12) - 1e-14 * (yy + qq + 1.0);
                 let tf = -b / a;
                 let tau = (t0 - tf).max(tf - t1) - (slack + 1e-12 * tf.abs());
                 let tau = tau.max(0.0);

@@ -567,9 +567,10 @@ fn end_quad<const D: usize>(q: &[Dd; D], w: &[f64; D], r2: Dd, e: f64) -> (f64, 
     let eb = EPS * b.abs() + 128.0 * EPS * EPS * mb;
     let ec = EPS * c.abs() + 256.0 * EPS * EPS * mc;
     if !(mc > 1e-200) {
-        // Squares near the subnormal range have lost their relative accuracy
-        // (found by the `world` fuzz target: a chord of 8.6e−155 came out
-        // 1.9e−12 too long): no bound, the exact path decides.
+        // Squares near the subnormal range lose relative accuracy, which the
+        // bounds above do not model (the `world` fuzz target reached such a
+        // case: a near-tangent chord of 8.6e−155 whose h² is subnormal): no
+        // bound, the exact path decides.
         return (b, f64::INFINITY, c, f64::INFINITY);
     }
     (b, eb, c, ec)
