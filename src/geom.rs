@@ -215,14 +215,17 @@ pub fn for_each_piece<const D: usize>(
     }
     let mut origin = [0.0; D];
     let bound = ((t_hi - t_lo) * w.iter().map(|x| x.abs()).sum::<f64>()) as usize + D + 2;
+    // Each axis's crossing parameter, computed once per step and reused by
+    // the stepping test below (the same quotient, so the same decisions).
+    let mut tf = [f64::INFINITY; D];
     for _ in 0..bound.min(usize::MAX - 1) + 1 {
         let mut t_next = t_hi;
         for j in 0..D {
             if w[j] != 0.0 {
                 let face = if w[j] > 0.0 { m[j] + 1.0 } else { m[j] };
-                let tj = (face - c[j]) / w[j];
-                if tj < t_next {
-                    t_next = tj;
+                tf[j] = (face - c[j]) / w[j];
+                if tf[j] < t_next {
+                    t_next = tf[j];
                 }
             }
         }
@@ -238,12 +241,8 @@ pub fn for_each_piece<const D: usize>(
         }
         // Step every axis whose face is crossed at t_next.
         for j in 0..D {
-            if w[j] != 0.0 {
-                let face = if w[j] > 0.0 { m[j] + 1.0 } else { m[j] };
-                let tj = (face - c[j]) / w[j];
-                if tj <= t_next {
-                    m[j] += if w[j] > 0.0 { 1.0 } else { -1.0 };
-                }
+            if w[j] != 0.0 && tf[j] <= t_next {
+                m[j] += if w[j] > 0.0 { 1.0 } else { -1.0 };
             }
         }
         t = t_next;

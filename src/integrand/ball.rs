@@ -273,19 +273,12 @@ impl<const D: usize> Ball<D> {
         // (at most 2 of the 3, since r ≤ 1/2), and q's component for each.
         let mut cand = [[0usize; 3]; D];
         let mut ncand = [0usize; D];
-        let mut qc = [[Dd::ZERO; 3]; D];
         for j in 0..D {
             for mj in 0..3 {
                 if dist2[j][mj] < r2 {
                     cand[j][ncand[j]] = mj;
                     ncand[j] += 1;
                 }
-                // q = p − (c + n), n = mj − 1
-                qc[j][mj] = if mj == 1 {
-                    q0[j]
-                } else {
-                    q0[j].add(Dd::new(1.0 - mj as f64))
-                };
             }
         }
         // The images in the order idx = m_0 + 3 m_1 + 9 m_2 (so the sum is
@@ -302,7 +295,16 @@ impl<const D: usize> Ball<D> {
                 dd += dist2[j][cand[j][k[j]]];
             }
             if dd < r2 {
-                let q: [Dd; D] = core::array::from_fn(|j| qc[j][cand[j][k[j]]]);
+                // q = p − (c + n), n = mj − 1, formed only for the images
+                // that reach the piece.
+                let q: [Dd; D] = core::array::from_fn(|j| {
+                    let mj = cand[j][k[j]];
+                    if mj == 1 {
+                        q0[j]
+                    } else {
+                        q0[j].add(Dd::new(1.0 - mj as f64))
+                    }
+                });
                 sum += sphere::chord(&q, &w, a, self.sphere.r2(), t0, t1);
             }
             // Odometer, axis 0 fastest.

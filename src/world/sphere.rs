@@ -61,7 +61,9 @@
 //! summands), `Δ = b_e² − a c_e` by one `fma`, and the same cancellation-free
 //! roots. Every decision (which end is inside, on which side a root lies)
 //! must hold with its error margin, and the length (`s+`, `−u−` or `2√Δ/a`)
-//! is returned only when its run-time relative error bound is at most `7u`;
+//! is returned only when its run-time relative error bound is at most `7u`
+//! (a whole chord seen from a far end, where `b_e² ≫ Δ`, is re-based at the
+//! foot `t0 − b_e/a` first, where `Δ ≈ −a c_e` does not cancel);
 //! otherwise the double-double path above decides. Lengths `0` and
 //! `fl(t1 − t0)` are the exact path's bit for bit; others may differ from it
 //! by a few ulp, within the bounds above. About 4× cheaper than the
@@ -667,7 +669,18 @@ fn chord_fast<const D: usize>(
     if sp * (1.0 + rsp) < lo_len {
         // The whole chord 2√Δ/a.
         let rel = 1.01 * (rel_sd + 2.0 * EPS);
-        return (rel <= FAST_REL).then(|| 2.0 * (sd / af));
+        if rel <= FAST_REL {
+            return Some(2.0 * (sd / af));
+        }
+        // From an end far from the sphere Δ = b² − ac cancels (|b|² ≫ Δ):
+        // re-based at (nearly) the foot t0 − b/a, b ≈ 0 and Δ ≈ −ac does not.
+        let (bf, ebf, cf, ecf) = end_quad(q, w, r2, t0 - b / af);
+        if !mb_ok(bf, cf) {
+            return None;
+        }
+        let [.., sdf, relf] = fast_roots(af, bf, ebf, cf, ecf)?;
+        let rel = 1.01 * (relf + 2.0 * EPS);
+        return (rel <= FAST_REL).then(|| 2.0 * (sdf / af));
     }
     if !(sm * (1.0 + rsm) < lo_len && sp * (1.0 - rsp) > hi_len) {
         return None;
