@@ -162,8 +162,18 @@ impl<const D: usize> Pattern<D> for Probe {
     ) -> Result<(), PatternError> {
         self.fill_range(s, f, out)
     }
-    fn fill_range_soa(&self, _: Seed, _: usize, _: [&mut [f32]; D]) -> Result<(), PatternError> {
-        unimplemented!()
+    fn fill_range_soa(
+        &self,
+        _: Seed,
+        first: usize,
+        out: [&mut [f32]; D],
+    ) -> Result<(), PatternError> {
+        for col in out {
+            for (i, x) in col.iter_mut().enumerate() {
+                *x = ((first + i) as f32) / 1024.0;
+            }
+        }
+        Ok(())
     }
 }
 

@@ -302,8 +302,15 @@ impl<const D: usize> Gaussian<D> {
     #[inline]
     fn below_half_ulp(&self, d2: f64, cap: f64, sum: f64) -> bool {
         let ulp = f64::from_bits(sum.to_bits() + 1) - sum;
-        let bound = cap * libm::exp(-d2 * (1.0 - 1e-9) / self.two_s2.hi) * (1.0 + 1e-6);
-        bound < 0.25 * ulp
+        self.image_bound(d2, cap) < 0.25 * ulp
+    }
+
+    /// An upper bound on the integral over a piece of an image at squared
+    /// distance at least `d2` from it: `cap·e^{−d2/2σ²}` with slack for the
+    /// rounding of `d2` and of `exp`.
+    #[inline]
+    fn image_bound(&self, d2: f64, cap: f64) -> f64 {
+        cap * libm::exp(-d2 * (1.0 - 1e-9) / self.two_s2.hi) * (1.0 + 1e-6)
     }
 
     /// Periodised integral over the piece `c + q + tω`, `t ∈ [t0, t1]`, by
@@ -355,9 +362,17 @@ impl<const D: usize> Gaussian<D> {
         let mut sum = 0.0;
         // Any image's integral over the piece is at most its peak times
         // min(piece length, σ√(2π)/|ω|) times e^{−d²/2σ²}, d its distance to
-        // the piece's box (|ω| = 1 up to 4u; the slack is in `below_half_ulp`).
+        // the piece's box (|ω| = 1 up to 4u; the slack is in `image_bound`).
         let cap = self.norm * (t1 - t0).min(2.506_628_274_631_000_7 * self.sigma);
-        if let Some(v) = self.sorted_images(q, w, k, t0, t1, &lo, &hi, r2, &mlo, &mhi, cap) {
+        let bx = ImageBox {
+            lo,
+            hi,
+            r2,
+            mlo,
+            mhi,
+            cap,
+        };
+        if let Some(v) = self.sorted_images(q, w, k, t0, t1, &bx) {
             return v;
         }
         loop {
@@ -415,7 +430,6 @@ impl<const D: usize> Gaussian<D> {
     /// kernel, relative error bound `R` computed with it) and kept when
     /// `bound·R < 2⁻⁶⁰·sum` (about 3× cheaper than the double-double form);
     /// the sum's total error from both shortcuts stays below `n·2⁻⁶⁰` of it.
-    #[allow(clippy::too_many_arguments)]
     fn sorted_images(
         &self,
         q: &[Dd; D],
@@ -423,13 +437,17 @@ impl<const D: usize> Gaussian<D> {
         k: &crate::world::gaussian::LineConsts,
         t0: f64,
         t1: f64,
-        lo: &[f64; D],
-        hi: &[f64; D],
-        r2: f64,
-        mlo: &[i64; D],
-        mhi: &[i64; D],
-        cap: f64,
+        bx: &ImageBox<D>,
     ) -> Option<f64> {
+        let ImageBox {
+            lo,
+            hi,
+            r2,
+            mlo,
+            mhi,
+            ..
+        } = bx;
+        let r2 = *r2;
         // Per axis, the image offsets whose distance to the box alone is
         // within r (at most AXIS of them), with their squared distances.
         let mut axd = [[0.0f64; AXIS]; D];
@@ -527,7 +545,7 @@ impl<const D: usize> Gaussian<D> {
         let mut sum = 0.0;
         for i in 0..n {
             if sum > 0.0 {
-                let bound = cap * libm::exp(-key[i] * (1.0 - 1e-9) / self.two_s2.hi) * (1.0 + 1e-6);
+                let bound = self.image_bound(key[i], bx.cap);
                 if (n - i) as f64 * bound < TWO_M60 * sum {
                     break;
                 }
@@ -569,6 +587,18 @@ impl<const D: usize> Gaussian<D> {
         }
         d
     }
+}
+
+/// The images a piece may reach: its bounding box `[lo, hi]`, the squared
+/// cutoff distance `r2` from it, the image offsets `mlo..=mhi` per axis, and
+/// `cap` (see `Gaussian::image_bound`).
+struct ImageBox<const D: usize> {
+    lo: [f64; D],
+    hi: [f64; D],
+    r2: f64,
+    mlo: [i64; D],
+    mhi: [i64; D],
+    cap: f64,
 }
 
 impl<const D: usize> Integrand<D> for Gaussian<D> {

@@ -289,11 +289,7 @@ impl<const D: usize> Gaussian<D> {
         }
         // |q × ω|² (Lagrange: a ρ² = |q|²a − b²).
         let mut cr2 = Dd::new(0.0);
-        let pairs: &[(usize, usize)] = if D == 2 {
-            &[(0, 1)]
-        } else {
-            &[(1, 2), (2, 0), (0, 1)]
-        };
+        let pairs = cross_pairs::<D>();
         for &(i, k) in pairs {
             let x = q[i].mul(Dd::new(w[k])).sub(q[k].mul(Dd::new(w[i])));
             cr2 = cr2.add(x.mul(x));
@@ -458,11 +454,7 @@ impl<const D: usize> Gaussian<D> {
             b += y[j] * w[j];
             y1 += y[j].abs();
         }
-        let pairs: &[(usize, usize)] = if D == 2 {
-            &[(0, 1)]
-        } else {
-            &[(1, 2), (2, 0), (0, 1)]
-        };
+        let pairs = cross_pairs::<D>();
         let mut cr2 = 0.0;
         for &(i, m) in pairs {
             let x = y[i] * w[m] - y[m] * w[i];
@@ -605,6 +597,17 @@ impl<const D: usize> Gaussian<D> {
             |o, d, t0, t1| transmit32::<f32x8, D>(&k, o, d, t0, t1, sigma_t),
             |o, d, t0, t1| transmit32::<f32, D>(&k, o, d, t0, t1, sigma_t),
         )
+    }
+}
+
+/// The index pairs `(i, k)` of the components `x_i ω_k − x_k ω_i` of a cross
+/// product: one in 2D, three in 3D.
+#[inline(always)]
+fn cross_pairs<const D: usize>() -> &'static [(usize, usize)] {
+    if D == 2 {
+        &[(0, 1)]
+    } else {
+        &[(1, 2), (2, 0), (0, 1)]
     }
 }
 

@@ -566,15 +566,16 @@ fn end_quad<const D: usize>(q: &[Dd; D], w: &[f64; D], r2: Dd, e: f64) -> (f64, 
     }
     let b = bs + blo;
     let c = cs + clo;
-    let eb = EPS * b.abs() + 128.0 * EPS * EPS * mb;
-    let ec = EPS * c.abs() + 256.0 * EPS * EPS * mc;
-    if !(mc > 1e-200) {
+    if !(mc > 1e-200 && b.is_finite() && c.is_finite()) {
         // Squares near the subnormal range lose relative accuracy, which the
-        // bounds above do not model (the `world` fuzz target reached such a
-        // case: a near-tangent chord of 8.6e−155 whose h² is subnormal): no
-        // bound, the exact path decides.
+        // bounds below do not model (the `world` fuzz target reached such a
+        // case: a near-tangent chord of 8.6e−155 whose h² is subnormal), and
+        // an overflowing end or offset has no bound at all: infinite bounds,
+        // which fail every test of the fast path, so the exact path decides.
         return (b, f64::INFINITY, c, f64::INFINITY);
     }
+    let eb = EPS * b.abs() + 128.0 * EPS * EPS * mb;
+    let ec = EPS * c.abs() + 256.0 * EPS * EPS * mc;
     (b, eb, c, ec)
 }
 
@@ -637,7 +638,7 @@ fn chord_fast<const D: usize>(
     let len = t1 - t0;
     let (lo_len, hi_len) = (len * (1.0 - 2.0 * EPS), len * (1.0 + 2.0 * EPS));
     let (b, eb, c, ec) = end_quad(q, w, r2, t0);
-    if !(c.abs() > ec) || !mb_ok(b, c) {
+    if !(c.abs() > ec) {
         return None;
     }
     let [sm, sp, rsm, rsp, sd, rel_sd] = fast_roots(af, b, eb, c, ec)?;
@@ -675,9 +676,6 @@ fn chord_fast<const D: usize>(
         // From an end far from the sphere Δ = b² − ac cancels (|b|² ≫ Δ):
         // re-based at (nearly) the foot t0 − b/a, b ≈ 0 and Δ ≈ −ac does not.
         let (bf, ebf, cf, ecf) = end_quad(q, w, r2, t0 - b / af);
-        if !mb_ok(bf, cf) {
-            return None;
-        }
         let [.., sdf, relf] = fast_roots(af, bf, ebf, cf, ecf)?;
         let rel = 1.01 * (relf + 2.0 * EPS);
         return (rel <= FAST_REL).then(|| 2.0 * (sdf / af));
@@ -688,18 +686,11 @@ fn chord_fast<const D: usize>(
     // Enters inside the segment and t1 is inside: the length is −u−, the
     // entry root re-based at t1.
     let (b1, eb1, c1, ec1) = end_quad(q, w, r2, t1);
-    if !(c1 < -ec1) || !mb_ok(b1, c1) {
+    if !(c1 < -ec1) {
         return None;
     }
     let [um, _, rum, ..] = fast_roots(af, b1, eb1, c1, ec1)?;
     (rum <= FAST_REL).then_some((-um).min(len))
-}
-
-/// Finite quadratic coefficients (an overflowing end or offset goes to the
-/// exact path, which handles it).
-#[inline(always)]
-fn mb_ok(b: f64, c: f64) -> bool {
-    b.is_finite() && c.is_finite()
 }
 
 /// Chord of the free-space ball `|y| < r` (`r² = r2`) with the line
