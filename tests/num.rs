@@ -10,7 +10,7 @@
 //!
 //! Bounds asserted (`u = 2⁻⁵³`, relative to the exact result for the exact
 //! double-double inputs): add/sub `3u²`, mul `7u²`, `mul_f64` `3u²`, div
-//! `4u²`, sqrt `4u²`; `frac_centered` within `2⁻⁵⁴` absolute; `cis_turns`
+//! `4u²`, recip `8u²`, sqrt `4u²`; `frac_centered` within `2⁻⁵⁴` absolute; `cis_turns`
 //! and `sinc` within 2 ulp of 1 of the exact-phase reference.
 
 use linesample::num::{
@@ -196,6 +196,15 @@ proptest! {
         let q = x.div(y);
         let resid = Exact::of_dd(q).mul(&Exact::of_dd(y)).sub(&Exact::of_dd(x));
         prop_assert!(resid.within(&Exact::of_dd(x), 4, U2), "{x:?} / {y:?} = {q:?}");
+    }
+
+    #[test]
+    fn recip_within_8u2(y in dd(-300, 300)) {
+        // q = (1/y)(1 + δ) ⟺ q·y − 1 = δ, all dyadic.
+        let q = y.recip();
+        let one = Exact::of(1.0);
+        let resid = Exact::of_dd(q).mul(&Exact::of_dd(y)).sub(&one);
+        prop_assert!(resid.within(&one, 8, U2), "1 / {y:?} = {q:?}");
     }
 
     #[test]

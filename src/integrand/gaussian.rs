@@ -23,9 +23,10 @@ use crate::num::frac;
 use crate::num::Dd;
 use crate::num::{cis_turns, dot_turns, frac_centered, sinc_dd};
 use crate::primitive::{Line, Rays32, Segment};
-use crate::special::exp_neg_dd;
+use crate::special::{exp_neg_dd, exp_neg_lane};
 use crate::world::Gaussian as FreeGaussian;
 use core::f64::consts::{PI, TAU};
+use wide::f64x4;
 
 const SIGMA_MIN: f64 = Gaussian::<2>::SIGMA_MIN;
 const SIGMA_MAX: f64 = Gaussian::<2>::SIGMA_MAX;
@@ -45,9 +46,10 @@ const AXIS: usize = 12;
 /// `2⁻⁶⁰`: the relative size below which the remaining images are dropped.
 const TWO_M60: f64 = 8.673_617_379_884_035e-19;
 
-/// `2⁻²⁴`: images bounded below this share of the sum try the plain-`f64`
-/// evaluation (`Gaussian::segment_cheap` of the free-space form).
-const TWO_M24: f64 = 5.960_464_477_539_063e-8;
+/// Images bounded below this share (`2⁻²⁰`) of the sum so far are evaluated in
+/// `f64` SIMD lanes (`world::Gaussian::segment_far4`), the rest in
+/// double-double.
+const FAR: f64 = 9.765625e-4;
 
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
@@ -486,92 +488,170 @@ impl<const D: usize> Gaussian<D> {
         for j in 0..D {
             a += w[j] * w[j];
         }
+        // 1/a rounded (a = |ω|² ≈ 1): a relative error of u in ρ² and t_f,
+        // far inside the margins below.
+        let inv_a = 1.0 / a;
         let fin = |x: f64| if x.is_finite() { x.abs() } else { 0.0 };
         let slack = 1e-12 * (1.0 + fin(t0) + fin(t1));
         let mut qq = 0.0;
         for j in 0..D {
             qq += q[j].hi * q[j].hi;
         }
-        let mut ix = [0usize; D];
-        'walk: loop {
-            let mut d2 = 0.0;
-            for j in 0..D {
-                d2 += axd[j][ix[j]];
+        // The walk over the cells in odometer order (axis 0 fastest), pruned
+        // by the outer axes' partial distance: the sums are of non-negative
+        // terms and rounding is monotone, so fl(fl(a0 + a1) + a2) ≥ fl(a1 + a2)
+        // ≥ a2 and a pruned cell would also fail the full test.
+        let (n2, n1) = if D == 3 {
+            (axn[2], axn[1])
+        } else {
+            (1, axn[1])
+        };
+        for i2 in 0..n2 {
+            let a2 = if D == 3 { axd[2][i2] } else { 0.0 };
+            if a2 > r2 {
+                continue;
             }
-            if d2 <= r2 {
-                if n == MAX_SORTED {
-                    return None;
+            for i1 in 0..n1 {
+                let a12 = axd[1][i1] + a2;
+                if a12 > r2 {
+                    continue;
                 }
-                let mut yy = 0.0;
-                let mut b = 0.0;
-                let mut m = [0i16; D];
-                for j in 0..D {
-                    m[j] = axm[j][ix[j]];
-                    let y = q[j].hi - f64::from(m[j]);
-                    yy += y * y;
-                    b += y * w[j];
+                for i0 in 0..axn[0] {
+                    // The same sum, in the same order, as the unpruned walk.
+                    let d2 = if D == 3 {
+                        (axd[0][i0] + axd[1][i1]) + a2
+                    } else {
+                        axd[0][i0] + axd[1][i1]
+                    };
+                    if d2 > r2 {
+                        continue;
+                    }
+                    if n == MAX_SORTED {
+                        return None;
+                    }
+                    let mut yy = 0.0;
+                    let mut b = 0.0;
+                    let mut m = [0i16; D];
+                    for j in 0..D {
+                        let ij = [i0, i1, i2][j];
+                        m[j] = axm[j][ij];
+                        let y = q[j].hi - f64::from(m[j]);
+                        yy += y * y;
+                        b += y * w[j];
+                    }
+                    // The margin covers the roundings (≤ 6u·|y|²) and the
+                    // offset's error (|δy| ≤ 2u|q|, moving ρ² by
+                    // ≤ 2ρ|δy| ≤ 2u(|y|² + |q|²)).
+                    let rho2 = (yy - b * b * inv_a) * (1.0 - 1e-12) - 1e-14 * (yy + qq + 1.0);
+                    let tf = -b * inv_a;
+                    let tau = (t0 - tf).max(tf - t1) - (slack + 1e-12 * tf.abs());
+                    let tau = tau.max(0.0);
+                    let dist2 = rho2.max(0.0) + a * tau * tau * (1.0 - 1e-12);
+                    // Insertion into the sorted prefix (stable: ties keep the
+                    // walk order).
+                    let mut i = n;
+                    while i > 0 && key[i - 1] > dist2 {
+                        key[i] = key[i - 1];
+                        img[i] = img[i - 1];
+                        i -= 1;
+                    }
+                    key[i] = dist2;
+                    img[i] = m;
+                    n += 1;
                 }
-                // The margin covers the roundings (≤ 6u·|y|²) and the offset's
-                // error (|δy| ≤ 2u|q|, moving ρ² by ≤ 2ρ|δy| ≤ 2u(|y|² + |q|²)).
-                let rho2 = (yy - b * b / a) * (1.0 - 1e-12) - 1e-14 * (yy + qq + 1.0);
-                let tf = -b / a;
-                let tau = (t0 - tf).max(tf - t1) - (slack + 1e-12 * tf.abs());
-                let tau = tau.max(0.0);
-                let dist2 = rho2.max(0.0) + a * tau * tau * (1.0 - 1e-12);
-                // Insertion into the sorted prefix (stable: ties keep the walk order).
-                let mut i = n;
-                while i > 0 && key[i - 1] > dist2 {
-                    key[i] = key[i - 1];
-                    img[i] = img[i - 1];
-                    i -= 1;
-                }
-                key[i] = dist2;
-                img[i] = m;
-                n += 1;
-            }
-            let mut j = 0;
-            loop {
-                if j == D {
-                    break 'walk;
-                }
-                if ix[j] + 1 < axn[j] {
-                    ix[j] += 1;
-                    break;
-                }
-                ix[j] = 0;
-                j += 1;
             }
         }
         let mut sum = 0.0;
-        for i in 0..n {
+        let mut i = 0;
+        // Near images, nearest first, in double-double.
+        while i < n {
             if sum > 0.0 {
                 let bound = self.image_bound(key[i], bx.cap);
                 if (n - i) as f64 * bound < TWO_M60 * sum {
+                    return Some(sum);
+                }
+                if bound < FAR * sum {
                     break;
                 }
-                if bound < TWO_M24 * sum {
-                    // A far image: plain f64 is enough when its error, at most
-                    // bound·R, is below 2⁻⁶⁰ of the sum.
-                    let mut y = [0.0; D];
-                    let mut dy = 0.0f64;
-                    for j in 0..D {
-                        y[j] = q[j].hi - f64::from(img[i][j]);
-                        dy = dy.max(2.0 * f64::EPSILON * (q[j].hi.abs() + y[j].abs()));
-                    }
-                    let (v, rel) = self.free.segment_cheap(&y, dy, w, k, t0, t1);
-                    if bound * rel < TWO_M60 * sum {
-                        sum += v;
-                        continue;
-                    }
+            }
+            sum += self.image_dd(q, &img[i], w, k, t0, t1);
+            i += 1;
+        }
+        if i == n {
+            return Some(sum);
+        }
+        // Far images: every remaining image is bounded below FAR·sum (keys
+        // ascend, the sum only grows). Four at a time in f64 SIMD lanes (the
+        // last group padded with the last image), in order: an image whose
+        // bound times n is below 2⁻⁶⁰ of the sum so far ends the sum (so do
+        // all after it: their bounds are smaller); one whose error, at most
+        // bound·R, is below 2⁻⁶⁰ of the sum is kept, else it is evaluated in
+        // double-double. Comparing with the sum before the far images (which
+        // only grow it) cuts no earlier than the sequential rule.
+        let sum0 = sum;
+        let inv2s2 = 1.0 / self.two_s2.hi;
+        // The groups stop at `end`, a first cut found in log space (one `log`
+        // instead of an exponential per image): n·cap·(1 + 10⁻⁶)·
+        // e^{−key(1−10⁻⁹)/2σ²} < 2⁻⁶⁰·sum0 ⇔ key(1−10⁻⁹)/2σ² > x_stop, with
+        // x_stop raised by 10⁻⁹ relative for the roundings of `log`, so
+        // `end` is never before the exact rule's cut.
+        let x_stop = libm::log(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum0));
+        let x_stop = x_stop + 1e-9 * x_stop.abs() + 1e-12;
+        let mut end = i;
+        while end < n && key[end] * (1.0 - 1e-9) * inv2s2 <= x_stop {
+            end += 1;
+        }
+        while i < end {
+            let idx: [usize; 4] = core::array::from_fn(|l| (i + l).min(end - 1));
+            let mut y = [[0.0; D]; 4];
+            let mut dy = [0.0f64; 4];
+            for l in 0..4 {
+                for j in 0..D {
+                    y[l][j] = q[j].hi - f64::from(img[idx[l]][j]);
+                    // |y − (q − m)| ≤ |q.lo| + u|y| ≤ u(|q.hi| + |y|).
+                    dy[l] = dy[l].max(0.51 * f64::EPSILON * (q[j].hi.abs() + y[l][j].abs()));
                 }
             }
-            let mut qm = *q;
-            for j in 0..D {
-                qm[j] = q[j].sub(Dd::new(f64::from(img[i][j])));
+            let (v, rel) = self.free.segment_far4(&y, &dy, w, k, t0, t1);
+            // The image bounds in the same lanes (the exponent clamped at 700,
+            // which only raises a bound; the lane exponential's 4u error is
+            // inside the 10⁻⁶ slack).
+            let x = f64x4::from(core::array::from_fn::<f64, 4, _>(|l| {
+                (key[idx[l]] * (1.0 - 1e-9) * inv2s2).min(700.0)
+            }));
+            let bound = (exp_neg_lane(x) * f64x4::splat(bx.cap * (1.0 + 1e-6))).to_array();
+            for l in 0..4.min(end - i) {
+                if n as f64 * bound[l] < TWO_M60 * sum0 {
+                    return Some(sum);
+                }
+                if bound[l] * rel[l] < TWO_M60 * sum0 {
+                    sum += v[l];
+                } else {
+                    sum += self.image_dd(q, &img[idx[l]], w, k, t0, t1);
+                }
             }
-            sum += self.free.segment_with(&qm, w, k, t0, t1);
+            i += 4;
         }
         Some(sum)
+    }
+
+    /// The free-space integral over the piece of the image `c + m`, in
+    /// double-double ([`crate::world::Gaussian`]'s exact form).
+    #[inline]
+    fn image_dd(
+        &self,
+        q: &[Dd; D],
+        m: &[i16; D],
+        w: &[f64; D],
+        k: &crate::world::gaussian::LineConsts,
+        t0: f64,
+        t1: f64,
+    ) -> f64 {
+        let mut qm = *q;
+        for j in 0..D {
+            qm[j] = q[j].sub(Dd::new(f64::from(m[j])));
+        }
+        self.free.segment_with(&qm, w, k, t0, t1)
     }
 
     /// `(p + t_m ω) − c` in double-double, `t_m` the midpoint of `[t0, t1]`.

@@ -174,6 +174,26 @@ impl Dd {
         Self { hi, lo }
     }
 
+    /// `1/self` by one Newton step from `q₁ = fl(1/hi)`: the remainder
+    /// `1 − hi·q₁` is exact (one FMA), `r = (1 − hi·q₁) − lo·q₁`, and
+    /// `q₁ + q₁·r` as a double-double. Since `y(q₁ + q₁r) = 1 − (1 − yq₁)²`
+    /// up to the roundings of `r` and `q₁r`, the relative error is
+    /// `≤ (2u)² + 4u² = 8u²` — a few times cheaper than [`Dd::div`] by
+    /// `Dd::new(1.0)`. A non-finite `q₁` (division by zero, overflow, NaN) is
+    /// returned as it is.
+    #[inline]
+    #[must_use]
+    pub fn recip(self) -> Self {
+        let q1 = 1.0 / self.hi;
+        if !q1.is_finite() {
+            return Self::new(q1);
+        }
+        let e = crate::num::scalar::fma(-self.hi, q1, 1.0);
+        let r = e - self.lo * q1;
+        let (hi, lo) = two_sum(q1, q1 * r);
+        Self { hi, lo }
+    }
+
     /// `√self` for `self ≥ 0`: `s = √hi` and one Newton correction
     /// `(self − s²)/(2s)` with `s²` formed exactly (relative error ≤ `4u²`).
     /// `√0 = 0`; a negative or NaN argument gives NaN.

@@ -68,9 +68,13 @@ pub(crate) trait F32Lane: Lane<Scalar = f32> {
     fn pow2i(n: Self) -> Self;
 }
 
-/// `f64` lanes (`f64`, `f64x4`).
-pub(crate) trait F64Lane: Lane<Scalar = f64> {}
-impl<T: Lane<Scalar = f64>> F64Lane for T {}
+/// `f64` lanes (`f64`, `f64x4`), with the exponent construction the `f64`
+/// exponential needs.
+pub(crate) trait F64Lane: Lane<Scalar = f64> {
+    /// `2^n` for integral-valued `n ∈ [−1022, 1023]` (built from the exponent
+    /// bits).
+    fn pow2i(n: Self) -> Self;
+}
 
 /// The scalar instantiation of the comparisons and selections (`minps` rule).
 macro_rules! scalar_lane {
@@ -148,7 +152,13 @@ macro_rules! scalar_lane {
 }
 
 scalar_lane!(f32, libm::sqrtf, libm::fabsf, libm::floorf, libm::fmaf);
-scalar_lane!(f64, libm::sqrt, libm::fabs, libm::floor, libm::fma);
+scalar_lane!(
+    f64,
+    libm::sqrt,
+    libm::fabs,
+    libm::floor,
+    crate::num::scalar::fma
+);
 
 /// The vector instantiation (`wide`).
 macro_rules! vector_lane {
@@ -239,6 +249,24 @@ impl F32Lane for f32x8 {
     fn pow2i(n: Self) -> Self {
         let e: i32x8 = n.round_int() + i32x8::splat(127);
         bytemuck::cast(e << 23)
+    }
+}
+
+impl F64Lane for f64 {
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        f64::from_bits((((n as i64) + 1023) as u64) << 52)
+    }
+}
+
+impl F64Lane for f64x4 {
+    #[inline(always)]
+    fn pow2i(n: Self) -> Self {
+        // Lane by lane through the integer bits (`wide` has no f64 → i64
+        // conversion); the compiler keeps it in vector registers.
+        let a: [f64; 4] = n.to_array();
+        let b: [u64; 4] = core::array::from_fn(|l| (((a[l] as i64) + 1023) as u64) << 52);
+        bytemuck::cast(b)
     }
 }
 
