@@ -636,8 +636,9 @@ fn erfc_lane<L: F64Lane>(z: L) -> L {
 /// `R` on its relative error: `(value, R)`.
 ///
 /// `ρ² = |y × ω|²/a`, `t_c = −(y·ω)/a`, `u_i = (t_i − t_c)·√a/(σ√2)`,
-/// `z_i = |u_i|` (clamped to `≤ 26`, where `erfc` is below `6e−296`),
-/// `c_i = erfc(z_i)` (`erfc_lane`, relative error `ε_i = (14 + z_i²)u`). On
+/// `z_i = |u_i|`, `c_i = erfc(z_i)` (`erfc_lane`, relative error
+/// `ε_i = (14 + z_i²)u`; `0` for `z_i ≥ 26`, an absolute error below
+/// `6e−296` added to the error of `D`). On
 /// one side of the foot `D = |c0 − c1|`; straddling it
 /// `D = (1 − c0) + (1 − c1)` (`= erf(u1) + erf(−u0)`); value
 /// `mult·e^{−ρ²/2σ²}·(√π/2)·D`. First-order error terms, each generous:
@@ -674,20 +675,24 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     let inv = L::splat(c.inv);
     let u0 = (L::splat(c.t0) - tc) * inv;
     let u1 = (L::splat(c.t1) - tc) * inv;
+    // Beyond z = 26, erfc(z) < 6e−296 is taken as 0 (an absolute error
+    // below 6e−296, added to the error of D below).
     let lim = L::splat(26.0);
     let z0 = u0.abs().min(lim);
     let z1 = u1.abs().min(lim);
-    let c0 = erfc_lane(z0);
-    let c1 = erfc_lane(z1);
+    let c0 = L::select(z0.lt(lim), erfc_lane(z0), zero);
+    let c1 = L::select(z1.lt(lim), erfc_lane(z1), zero);
     let eps0 = (L::splat(14.0) + z0 * z0) * u;
     let eps1 = (L::splat(14.0) + z1 * z1) * u;
+    let cut = L::select(z0.lt(lim), zero, L::splat(6e-296))
+        + L::select(z1.lt(lim), zero, L::splat(6e-296));
     // Straddling: u0 < 0 < u1.
     let straddle = L::select(u0.lt(zero), one, zero) * L::select(zero.lt(u1), one, zero);
     let strad = straddle.gt(zero);
     let d_same = (c0 - c1).abs();
     let d_str = (one - c0) + (one - c1);
     let d = L::select(strad, d_str, d_same);
-    let err_d = eps0 * c0 + eps1 * c1 + L::splat(3.0 * U) * d;
+    let err_d = eps0 * c0 + eps1 * c1 + L::splat(3.0 * U) * d + cut;
     // |∂D/∂u| summed over both ends: ≤ 2·(2v0 + 1.5)·erfc(v0) on one side
     // (v0 the nearer end, whose erfc is the larger), ≤ 2·(2/√π) straddling.
     let v0 = z0.min(z1);
