@@ -449,6 +449,77 @@ fn hard_cases_3d() {
 
 /// `value` at points with exponents `0 … 745` (values down to `1e-323` of
 /// the peak), σ over the whole range, far centres.
+/// `segment_fast` where its exponent term dominates the bound: lines and
+/// long segments given through origins `10⁴…10⁶σ` away along the line, at
+/// `ρ` from `σ` to `30σ`, so the cross product `q × ω` cancels and `ρ²` (hence
+/// `E = ρ²/2σ²`) carries an absolute error of order `u|q|ρ`. The error must
+/// stay within `R`, and these cases must be hard ones: some errors exceed
+/// `10⁻¹¹`, far above what the `erfc` terms alone allow. (The exponent term
+/// of `R` is the largest here, but a first-order overestimate: the measured
+/// errors stay within the argument terms alone, so dropping it would not
+/// fail this test; dropping the `erfc` or sensitivity terms fails
+/// `hard_cases_*`.)
+#[test]
+fn segment_fast_exponent_error_is_bounded() {
+    let mut worst: f64 = 0.0;
+    let mut big = 0;
+    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut uni = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for i in 0..3000 {
+        let sigma = [1e-3, 1.0, 1e3][i % 3];
+        let c = [0.3 * sigma, -0.7 * sigma, 0.2 * sigma];
+        let (g, r) = pair(c, sigma, None);
+        // A unit direction and a unit normal to it.
+        let th = 6.283_185_307_179_586 * uni();
+        let z = 2.0 * uni() - 1.0;
+        let s = (1.0 - z * z).sqrt();
+        let w = [s * th.cos(), s * th.sin(), z];
+        let a = if w[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        let mut nrm = [
+            w[1] * a[2] - w[2] * a[1],
+            w[2] * a[0] - w[0] * a[2],
+            w[0] * a[1] - w[1] * a[0],
+        ];
+        let l = (nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]).sqrt();
+        for x in &mut nrm {
+            *x /= l;
+        }
+        let rho = sigma * (1.0 + 29.0 * uni());
+        let far = sigma * 10f64.powf(4.0 + 2.0 * uni());
+        let o: [f64; 3] = core::array::from_fn(|j| c[j] + rho * nrm[j] - far * w[j]);
+        let ray = Ray::new(o, w).unwrap();
+        let dir = ray.dir().get();
+        let (t0, t1) = if i % 2 == 0 {
+            (f64::NEG_INFINITY, f64::INFINITY)
+        } else {
+            (far - 3.0 * sigma, far + 2.0 * sigma)
+        };
+        let want = r.segment(&ray.origin(), &dir, t0, t1);
+        let (got, bound) = g.segment_fast(&ray, t0, t1);
+        if !bound.is_finite() || want < f64::MIN_POSITIVE {
+            continue;
+        }
+        let e = rel(got, want);
+        assert!(
+            e <= bound + ULP,
+            "err {e:e} > R {bound:e}: σ {sigma} ρ {rho} far {far} [{t0}, {t1}]"
+        );
+        worst = worst.max(e / bound);
+        big += usize::from(e > 1e-11);
+    }
+    println!("segment_fast, far origins: worst error/R {worst:.3}, {big} errors above 1e-11");
+    assert!(big >= 10, "{big}");
+}
+
 #[test]
 fn values_down_to_the_subnormals() {
     let mut mix = Mix(0x7a1);

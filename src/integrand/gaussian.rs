@@ -427,11 +427,12 @@ impl<const D: usize> Gaussian<D> {
     /// `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest first
     /// is also the accurate order. For an oblique piece this evaluates only
     /// the images near the line, where the box test keeps every image near
-    /// the box. An image bounded below `2⁻²⁴` of the running sum is first
-    /// evaluated in plain `f64` ([`crate::world::Gaussian::segment_fast`]'s
-    /// kernel, relative error bound `R` computed with it) and kept when
-    /// `bound·R < 2⁻⁶⁰·sum` (about 3× cheaper than the double-double form);
-    /// the sum's total error from both shortcuts stays below `n·2⁻⁶⁰` of it.
+    /// the box. Once an image is bounded below `2⁻²⁰` of the running sum,
+    /// it and the rest are evaluated four at a time in `f64` SIMD lanes
+    /// ([`crate::world::Gaussian::segment_fast`]'s kernel, with its relative
+    /// error bound `R`; bit for bit the scalar kernel's values) and each is
+    /// kept when `bound·R < 2⁻⁶⁰·sum`, else evaluated in double-double; the
+    /// sum's total error from both shortcuts stays below `n·2⁻⁶⁰` of it.
     fn sorted_images(
         &self,
         q: &[Dd; D],
@@ -590,13 +591,12 @@ impl<const D: usize> Gaussian<D> {
         // only grow it) cuts no earlier than the sequential rule.
         let sum0 = sum;
         let inv2s2 = 1.0 / self.two_s2.hi;
-        // The groups stop at `end`, a first cut found in log space (one `log`
-        // instead of an exponential per image): n·cap·(1 + 10⁻⁶)·
-        // e^{−key(1−10⁻⁹)/2σ²} < 2⁻⁶⁰·sum0 ⇔ key(1−10⁻⁹)/2σ² > x_stop, with
-        // x_stop raised by 10⁻⁹ relative for the roundings of `log`, so
-        // `end` is never before the exact rule's cut.
-        let x_stop = libm::log(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum0));
-        let x_stop = x_stop + 1e-9 * x_stop.abs() + 1e-12;
+        // The groups stop at `end`, a first cut found in log space (no
+        // exponential per image): n·cap·(1 + 10⁻⁶)·e^{−key(1−10⁻⁹)/2σ²} <
+        // 2⁻⁶⁰·sum0 ⇐ key(1−10⁻⁹)/2σ² > x_stop for any x_stop ≥ the log of
+        // n·cap·(1 + 10⁻⁶)/(2⁻⁶⁰·sum0), so `end` is never before the exact
+        // rule's cut (the lanes apply the exact rule).
+        let x_stop = ln_upper(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum0));
         let mut end = i;
         while end < n && key[end] * (1.0 - 1e-9) * inv2s2 <= x_stop {
             end += 1;
@@ -667,6 +667,21 @@ impl<const D: usize> Gaussian<D> {
         }
         d
     }
+}
+
+/// An upper bound on `ln x` for `x > 0` from the binary exponent alone:
+/// `x < 2^{e+1}` with `e = ⌊log₂ x⌋`, so `ln x < (e + 1)·ln 2` (over by at most
+/// `ln 2`; `+∞` for `x = +∞` or NaN, and `ln 2·(−1021)` for subnormal `x`,
+/// which is still an upper bound there).
+#[inline]
+fn ln_upper(x: f64) -> f64 {
+    if !x.is_finite() {
+        return f64::INFINITY;
+    }
+    let e = ((x.to_bits() >> 52) & 0x7ff) as i64 - 1023;
+    // (e + 1)·ln 2 rounded up by a relative 10⁻¹⁵ (it is never 0 for e ≠ −1).
+    let v = (e + 1) as f64 * core::f64::consts::LN_2;
+    v + 1e-15 * v.abs()
 }
 
 /// The images a piece may reach: its bounding box `[lo, hi]`, the squared
@@ -922,5 +937,32 @@ impl<const D: usize> Integrand<D> for Gaussian<D> {
             q[j] = Dd::diff(p[j], self.centre[j]);
         }
         self.piece_images(&q, &w, &self.free.line_consts(&w), t0, t1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ln_upper;
+
+    /// `ln_upper` is an upper bound on `ln x` within `ln 2` of it, for
+    /// normal, subnormal, tiny and huge `x` (it decides where the far-image
+    /// groups may stop, so an underestimate would drop images).
+    #[test]
+    fn ln_upper_bounds_ln() {
+        let mut x = 5e-324f64;
+        while x.is_finite() {
+            for f in [1.0, 1.000_000_1, 1.5, 1.999_999_9] {
+                let y = x * f;
+                if y.is_finite() && y > 0.0 {
+                    let (u, l) = (ln_upper(y), libm::log(y));
+                    assert!(u >= l, "{y:e}: {u} < {l}");
+                    if y >= f64::MIN_POSITIVE {
+                        assert!(u <= l + core::f64::consts::LN_2 + 1e-12, "{y:e}: {u} {l}");
+                    }
+                }
+            }
+            x *= 2.0;
+        }
+        assert_eq!(ln_upper(f64::INFINITY), f64::INFINITY);
     }
 }

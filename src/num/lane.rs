@@ -52,6 +52,9 @@ pub(crate) trait Lane:
     fn gt(self, o: Self) -> Self::Mask;
     /// `m ? a : b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
+    /// Whether any lane of `m` is set (to skip work no lane needs; the
+    /// selected results are the same either way).
+    fn any(m: Self::Mask) -> bool;
     /// `a·b + c` with one rounding.
     fn fma(a: Self, b: Self, c: Self) -> Self;
     /// `self < o ? a : b`, lane by lane.
@@ -144,6 +147,10 @@ macro_rules! scalar_lane {
                 }
             }
             #[inline(always)]
+            fn any(m: bool) -> bool {
+                m
+            }
+            #[inline(always)]
             fn fma(a: Self, b: Self, c: Self) -> Self {
                 $fma(a, b, c)
             }
@@ -215,6 +222,10 @@ macro_rules! vector_lane {
             #[inline(always)]
             fn select(m: $v, a: Self, b: Self) -> Self {
                 wide::Select::select(m, a, b)
+            }
+            #[inline(always)]
+            fn any(m: $v) -> bool {
+                m.any()
             }
             #[inline(always)]
             fn fma(a: Self, b: Self, c: Self) -> Self {

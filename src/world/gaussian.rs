@@ -284,16 +284,21 @@ impl<const D: usize> Gaussian<D> {
         t1: f64,
     ) -> f64 {
         let a = k.a;
-        let mut b = Dd::new(0.0);
-        for j in 0..D {
+        // Sums start from their first term (adding it to 0 would give the
+        // same bits at the cost of a double-double addition).
+        let mut b = q[0].mul_f64(w[0]);
+        for j in 1..D {
             b = b.add(q[j].mul_f64(w[j]));
         }
         // |q × ω|² (Lagrange: a ρ² = |q|²a − b²).
-        let mut cr2 = Dd::new(0.0);
         let pairs = cross_pairs::<D>();
-        for &(i, k) in pairs {
+        let cross = |(i, k): (usize, usize)| {
             let x = q[i].mul_f64(w[k]).sub(q[k].mul_f64(w[i]));
-            cr2 = cr2.add(x.mul(x));
+            x.mul(x)
+        };
+        let mut cr2 = cross(pairs[0]);
+        for &p in &pairs[1..] {
+            cr2 = cr2.add(cross(p));
         }
         if !cr2.hi.is_finite() {
             // |q × ω|² overflows: the line passes at least ~1e154 from the
@@ -647,12 +652,13 @@ fn erfc_lane<L: F64Lane>(z: L) -> L {
 /// `δu ≤ (δt_c + u(|t0| + |t1| + 2|t_c|))·√a/(σ√2) + u(|u0| + |u1|)` (finite
 /// ends only) with `δt_c ≤ (D + 2)u|y|₁ + 2dy + 2u|t_c|`; `D` from its two
 /// `erfc` (`ε0·c0 + ε1·c1`) and its roundings (`3u·D`), and its sensitivity
-/// `|∂D/∂u| = (2/√π)e^{−u²}`, at most `(2v0 + 1.5)·erfc(v0)` per end on one
-/// side (Mills' ratio, `v0` the nearer end) and `1.13` straddling; plus `8u`
+/// `|∂D/∂u_i| = (2/√π)e^{−u_i²}` at each end, at most
+/// `min(1.13, (2z_i + 1.5)·erfc(z_i))` (Mills' ratio); plus `8u`
 /// for the exponential (`≤ 4u`) and the products. Unusable (`R = ∞`):
 /// `R ≥ 10⁻³` (a first-order bound means nothing once it is large: found by
-/// the `world` fuzz target), `E > 700`, a value below `1e−290`, or
-/// `c0 + c1 < 1e−280` (`erfc` near underflow has lost its precision).
+/// the `world` fuzz target), `E > 700`, a value below `1e−290`, or, on one
+/// side of the foot, `c0 + c1 < 1e−280` (`erfc` near underflow has lost its
+/// precision).
 #[inline(always)]
 pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D], dy: L) -> (L, L) {
     const U: f64 = f64::EPSILON / 2.0;
@@ -693,15 +699,18 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     let d_str = (one - c0) + (one - c1);
     let d = L::select(strad, d_str, d_same);
     let err_d = eps0 * c0 + eps1 * c1 + L::splat(3.0 * U) * d + cut;
-    // |∂D/∂u| summed over both ends: ≤ 2·(2v0 + 1.5)·erfc(v0) on one side
-    // (v0 the nearer end, whose erfc is the larger), ≤ 2·(2/√π) straddling.
-    let v0 = z0.min(z1);
-    let cmax = c0.max(c1);
-    let sens = L::select(
-        strad,
-        L::splat(2.26),
-        L::splat(2.0) * (L::splat(2.0) * v0 + L::splat(1.5)) * cmax,
-    );
+    // |∂D/∂u_i| = (2/√π)e^{−z_i²} at each end, at most
+    // min(1.13, (2z_i + 1.5)·erfc(z_i)) by Mills' ratio, and below 1e−294
+    // where z_i ≥ 26 (c_i was set to 0 there). An infinite end contributes
+    // nothing beyond that (a line's D does not depend on t_c).
+    let end_sens = |z: L, c: L| {
+        L::select(
+            z.lt(lim),
+            ((L::splat(2.0) * z + L::splat(1.5)) * c).min(L::splat(1.13)),
+            L::splat(1e-294),
+        )
+    };
+    let sens = end_sens(z0, c0) + end_sens(z1, c1);
     let e = rho2 * L::splat(c.inv_two_s2);
     let e_ok = e.le(L::splat(700.0));
     let ex = exp_neg_lane(e.min(L::splat(700.0)));
@@ -720,7 +729,10 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     };
     let du = (dtc + u * (L::splat(c.tsum) + two * atc)) * inv + u * (fin(u0) + fin(u1));
     let rel = L::splat(1.01) * (de + (err_d + sens * du) / d + L::splat(8.0 * U));
-    let mag = c0 + c1;
+    // On one side of the foot, D is a difference of erfc values, which
+    // have lost their precision near underflow; straddling, D ≥ 1 − c0 is
+    // never small that way.
+    let mag = L::select(strad, one, c0 + c1);
     let usable = L::select(rel.lt(L::splat(1e-3)), one, zero)
         * L::select(e_ok, one, zero)
         * L::select(L::splat(1e-290).le(v.abs()), one, zero)
