@@ -475,7 +475,7 @@ fn segment_fast_exponent_error_is_bounded() {
         let c = [0.3 * sigma, -0.7 * sigma, 0.2 * sigma];
         let (g, r) = pair(c, sigma, None);
         // A unit direction and a unit normal to it.
-        let th = 6.283_185_307_179_586 * uni();
+        let th = std::f64::consts::TAU * uni();
         let z = 2.0 * uni() - 1.0;
         let s = (1.0 - z * z).sqrt();
         let w = [s * th.cos(), s * th.sin(), z];
