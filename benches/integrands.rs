@@ -1,8 +1,9 @@
 //! What accuracy costs in time: free-space line and segment integrals per second,
 //! `f32` SIMD batch vs its `f32` scalar twin vs the `f64` scalar path (a few ulp,
 //! double-double where it cancels), for the ball chord (2D, 3D) and the Gaussian
-//! segment integral (3D), plus the periodised `f64` torus segment integral for
-//! scale. The maximum error of each `f32` path against the `f64` path on the same
+//! segment integral (3D), plus the periodised `f64` torus segment means and box
+//! lines (ball and Gaussian, rays near the shape's centre and uniform on the
+//! torus) for scale. The maximum error of each `f32` path against the `f64` path on the same
 //! rays is printed before the timings.
 //!
 //! Run: `cargo bench --bench integrands` (AVX2 build from `.cargo/config.toml`).
@@ -172,6 +173,11 @@ fn integrands(c: &mut Criterion) {
     torus(c, "ball", &ball3, &disk, &segs3);
     let gauss2 = Gaussian::<2>::new([0.5, 0.5], 0.1).unwrap();
     torus(c, "gaussian σ=0.1", &gauss3, &gauss2, &segs3);
+    // The same with segment centres uniform on the torus (as the lab's
+    // estimators place them), not within 0.3 of the shape's centre.
+    let uniform = RaySet::<3>::new(4, 0.5, Some(0.2));
+    torus(c, "ball, uniform", &ball3, &disk, &uniform);
+    torus(c, "gaussian σ=0.1, uniform", &gauss3, &gauss2, &uniform);
 }
 
 /// Segment means (3D and 2D, λ = 0.2) and oblique lines (2D) per second.
