@@ -174,7 +174,12 @@ fn spectrum_shards_merge_to_the_single_run() {
 
 /// Runs a long convergence sweep (20 cells, one thread), stops it with
 /// `signal` once at least one cell is stored, reruns it, and compares with an
-/// uninterrupted run.
+/// uninterrupted run. The sweep must outlast the window between the first
+/// stored cell and the signal (a second lab process is started in between,
+/// on a CI machine busy with other tests): 800 realisations make each cell
+/// about 0.14 s in the debug build, about 2.7 s for the other 19 (160 were
+/// enough until the integrands got faster, and then the run could finish
+/// first).
 fn interrupted_run_resumes(signal: &str) {
     let dir = TempDir::new(&format!("kill-{signal}"));
     let ns: Vec<String> = (0..20).map(|i| (3000 + 7 * i).to_string()).collect();
@@ -187,7 +192,7 @@ fn interrupted_run_resumes(signal: &str) {
             "--n",
             &ns,
             "--realisations",
-            "160",
+            "800",
             "--threads",
             "1",
             "--out",
