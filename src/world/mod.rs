@@ -11,7 +11,11 @@
 //!   (normalised or with a given peak), its optical depth and transmittance
 //!   `exp(−σ_t ∫ρ)` and opacity `1 − exp(−σ_t ∫ρ)`;
 //! * [`HalfSpace`] and [`Slab`]: the length of `[t0, t1]` on the kept side of a
-//!   plane, or between two parallel planes.
+//!   plane, or between two parallel planes;
+//! * [`HalfPlane`] ([`occlusion`]): the angles a sphere occludes in a
+//!   half-plane through a shading point's normal, and the cosine-weighted
+//!   visible measure of an angle interval (ambient occlusion by spheres in
+//!   closed form, one azimuth at a time).
 //!
 //! Each has an exact `f64` path (double-double where cancellation would
 //! otherwise lose digits; every method states its error bound) and an `f32`
@@ -49,10 +53,12 @@
 //! The derivations are in `docs/theory.md` (World-space closed forms).
 
 pub mod gaussian;
+pub mod occlusion;
 pub mod plane;
 pub mod sphere;
 
 pub use gaussian::Gaussian;
+pub use occlusion::HalfPlane;
 pub use plane::{HalfSpace, Slab};
 pub use sphere::Sphere;
 
