@@ -32,4 +32,5 @@ pub mod io;
 pub mod pointfile;
 pub mod runner;
 pub mod sampler;
+pub mod scene;
 pub mod term;

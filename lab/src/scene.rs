@@ -1,0 +1,546 @@
+//! Declarative scene files: the geometry, the camera and the **one** effect
+//! a scene asks to estimate, with the estimators to compare.
+//!
+//! A scene is a TOML file (`scenes/ao-spheres.toml` is the paper's ambient
+//! occlusion scene):
+//!
+//! ```toml
+//! [camera]
+//! from = [1.0, 1.0, 10.0]   # eye
+//! at = [0.0, 0.0, -1.0]     # the point looked at
+//! up = [0.0, 1.0, 0.0]
+//! fov = 40.0                # vertical, degrees
+//! resolution = [512, 512]   # width, height
+//!
+//! [[sphere]]
+//! centre = [0.0, -1000.0, 0.0]
+//! radius = 1000.0
+//!
+//! [effect]
+//! kind = "ambient-occlusion"
+//! max-distance = 500.0
+//!
+//! [estimators]              # optional; these are the defaults
+//! primitives = ["points", "segments", "lines"]
+//! segment-lengths = [0.001, 0.1, 1.0, 3.141592653589793]
+//! pdfs = ["uniform", "solid-angle", "cosine"]
+//! samplers = ["random", "jittered", "multi-jittered", "cmj", "sobol"]
+//! ```
+//!
+//! Every mistake is an error naming the file, the line and column, and the
+//! field: a TOML syntax error, an unknown key, a missing field, a value of
+//! the wrong type, NaN or an infinite number anywhere, a radius, field of
+//! view, resolution, distance or segment length out of range, a degenerate
+//! camera (`from = at`, `up` along the view), an unknown effect, primitive,
+//! pdf or sampler name, an empty list, or no sphere.
+
+use serde::Deserialize;
+use std::fmt;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A scene file's mistake: where it is and what is wrong.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneError {
+    /// The scene file.
+    pub file: PathBuf,
+    /// 1-based line (0 when the file could not be read).
+    pub line: usize,
+    /// 1-based column (0 when the file could not be read).
+    pub column: usize,
+    /// The field, as a path (`sphere[3].radius`, `camera.fov`), or the key
+    /// the TOML reader stopped at.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for SceneError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(
+            f,
+            "{}:{}:{}: {}: {}",
+            self.file.display(),
+            self.line,
+            self.column,
+            self.field,
+            self.message
+        )
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+/// A pinhole camera (pbrt's `LookAt` and `perspective` conventions: pixel
+/// `(0, 0)` is the top left, the ray of pixel `(x, y)` goes through its
+/// centre).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// The eye.
+    pub from: [f64; 3],
+    /// The point looked at.
+    pub at: [f64; 3],
+    /// The up direction (not parallel to `at − from`).
+    pub up: [f64; 3],
+    /// Vertical field of view, degrees, in `(0, 180)`.
+    pub fov_deg: f64,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+/// A sphere of the scene.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SphereDef {
+    /// Centre.
+    pub centre: [f64; 3],
+    /// Radius, positive.
+    pub radius: f64,
+}
+
+/// The one effect a scene estimates.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Effect {
+    /// Cosine-weighted ambient occlusion, normalised to 1 when nothing
+    /// occludes, counting hits up to `max_distance`.
+    AmbientOcclusion {
+        /// Largest distance at which a sphere occludes.
+        max_distance: f64,
+    },
+}
+
+/// The sample primitive of an estimator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Primitive {
+    /// Point samples of `(φ, θ)`.
+    Points,
+    /// Segments in `θ` at a fixed `φ`.
+    Segments,
+    /// Whole lines in `θ` (one per `φ`).
+    Lines,
+}
+
+/// The density of the sample centres over the hemisphere.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CentrePdf {
+    /// Uniform in `(φ, θ)`.
+    Uniform,
+    /// Uniform in solid angle.
+    SolidAngle,
+    /// Cosine-weighted.
+    Cosine,
+}
+
+/// The sample patterns of a scene's estimators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneSampler {
+    /// Independent uniform points.
+    Random,
+    /// Jittered (stratified).
+    Jittered,
+    /// Multi-jittered (Chiu, Shirley & Wang 1994).
+    MultiJittered,
+    /// Correlated multi-jittered (Kensler 2013).
+    Cmj,
+    /// Owen-scrambled Sobol′.
+    Sobol,
+}
+
+/// The estimators a scene compares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Estimators {
+    /// Primitives.
+    pub primitives: Vec<Primitive>,
+    /// Segment lengths in `θ`, in `(0, π]` (`π` is the whole line).
+    pub segment_lengths: Vec<f64>,
+    /// Centre densities.
+    pub pdfs: Vec<CentrePdf>,
+    /// Samplers.
+    pub samplers: Vec<SceneSampler>,
+}
+
+impl Default for Estimators {
+    fn default() -> Self {
+        Self {
+            primitives: vec![Primitive::Points, Primitive::Segments, Primitive::Lines],
+            segment_lengths: vec![0.001, 0.1, 1.0, std::f64::consts::PI],
+            pdfs: vec![CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine],
+            samplers: vec![
+                SceneSampler::Random,
+                SceneSampler::Jittered,
+                SceneSampler::MultiJittered,
+                SceneSampler::Cmj,
+                SceneSampler::Sobol,
+            ],
+        }
+    }
+}
+
+/// A checked scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// The camera.
+    pub camera: Camera,
+    /// The spheres (at least one).
+    pub spheres: Vec<SphereDef>,
+    /// The effect to estimate.
+    pub effect: Effect,
+    /// The estimators to compare.
+    pub estimators: Estimators,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    camera: Spanned<RawCamera>,
+    #[serde(default)]
+    sphere: Vec<Spanned<RawSphere>>,
+    effect: Spanned<RawEffect>,
+    estimators: Option<Spanned<RawEstimators>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCamera {
+    from: Spanned<[f64; 3]>,
+    at: Spanned<[f64; 3]>,
+    up: Spanned<[f64; 3]>,
+    fov: Spanned<f64>,
+    resolution: Spanned<[i64; 2]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawSphere {
+    centre: Spanned<[f64; 3]>,
+    radius: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawEffect {
+    kind: Spanned<String>,
+    max_distance: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawEstimators {
+    primitives: Option<Spanned<Vec<Spanned<String>>>>,
+    segment_lengths: Option<Spanned<Vec<Spanned<f64>>>>,
+    pdfs: Option<Spanned<Vec<Spanned<String>>>>,
+    samplers: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// Reads and checks a scene file.
+///
+/// # Errors
+/// A [`SceneError`] naming the file, line, column and field.
+pub fn load(path: &Path) -> Result<Scene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: path.to_path_buf(),
+        line: 0,
+        column: 0,
+        field: "(file)".into(),
+        message: format!("cannot read it: {e}"),
+    })?;
+    parse(path, &text)
+}
+
+/// Checks the text of a scene file (`path` names it in errors).
+///
+/// # Errors
+/// A [`SceneError`] naming the file, line, column and field.
+pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
+    let ctx = Ctx { path, text };
+    // Syntax first (its errors name no field), then the structure.
+    if let Err(e) = text.parse::<toml::Table>() {
+        let mut err = ctx.toml_error(&e);
+        err.field = "TOML syntax".into();
+        return Err(err);
+    }
+    let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+
+    let c = raw.camera.get_ref();
+    let from = ctx.finite3("camera.from", &c.from)?;
+    let at = ctx.finite3("camera.at", &c.at)?;
+    let up = ctx.finite3("camera.up", &c.up)?;
+    let fov = ctx.finite("camera.fov", &c.fov)?;
+    if !(fov > 0.0 && fov < 180.0) {
+        return Err(ctx.at(
+            c.fov.span(),
+            "camera.fov",
+            format!("must be in (0, 180) degrees, got {fov}"),
+        ));
+    }
+    let view = sub(at, from);
+    if norm2(view) == 0.0 {
+        return Err(ctx.at(
+            c.at.span(),
+            "camera.at",
+            "equals camera.from: no view direction".into(),
+        ));
+    }
+    let side = cross(view, up);
+    if norm2(side) <= 1e-24 * norm2(view) * norm2(up) {
+        return Err(ctx.at(
+            c.up.span(),
+            "camera.up",
+            "is zero or parallel to the view direction".into(),
+        ));
+    }
+    let [w, h] = *c.resolution.get_ref();
+    for (v, name) in [(w, "width"), (h, "height")] {
+        if !(1..=65_536).contains(&v) {
+            return Err(ctx.at(
+                c.resolution.span(),
+                "camera.resolution",
+                format!("{name} must be in 1..=65536, got {v}"),
+            ));
+        }
+    }
+    let camera = Camera {
+        from,
+        at,
+        up,
+        fov_deg: fov,
+        width: w as u32,
+        height: h as u32,
+    };
+
+    if raw.sphere.is_empty() {
+        return Err(ctx.at(0..0, "sphere", "the scene has no [[sphere]]".into()));
+    }
+    let mut spheres = Vec::with_capacity(raw.sphere.len());
+    for (i, s) in raw.sphere.iter().enumerate() {
+        let s = s.get_ref();
+        let centre = ctx.finite3(&format!("sphere[{i}].centre"), &s.centre)?;
+        let radius = ctx.finite(&format!("sphere[{i}].radius"), &s.radius)?;
+        if radius <= 0.0 {
+            return Err(ctx.at(
+                s.radius.span(),
+                &format!("sphere[{i}].radius"),
+                format!("must be positive, got {radius}"),
+            ));
+        }
+        spheres.push(SphereDef { centre, radius });
+    }
+
+    let e = raw.effect.get_ref();
+    let effect = match e.kind.get_ref().as_str() {
+        "ambient-occlusion" => {
+            let Some(md) = &e.max_distance else {
+                return Err(ctx.at(
+                    raw.effect.span(),
+                    "effect.max-distance",
+                    "missing (ambient-occlusion needs it)".into(),
+                ));
+            };
+            let d = ctx.finite("effect.max-distance", md)?;
+            if d <= 0.0 {
+                return Err(ctx.at(
+                    md.span(),
+                    "effect.max-distance",
+                    format!("must be positive, got {d}"),
+                ));
+            }
+            Effect::AmbientOcclusion { max_distance: d }
+        }
+        other => {
+            return Err(ctx.at(
+                e.kind.span(),
+                "effect.kind",
+                format!("unknown effect '{other}' (known: ambient-occlusion)"),
+            ))
+        }
+    };
+
+    let mut estimators = Estimators::default();
+    if let Some(est) = &raw.estimators {
+        let est = est.get_ref();
+        if let Some(p) = &est.primitives {
+            estimators.primitives = ctx.names(
+                "estimators.primitives",
+                p,
+                &[
+                    ("points", Primitive::Points),
+                    ("segments", Primitive::Segments),
+                    ("lines", Primitive::Lines),
+                ],
+            )?;
+        }
+        if let Some(p) = &est.pdfs {
+            estimators.pdfs = ctx.names(
+                "estimators.pdfs",
+                p,
+                &[
+                    ("uniform", CentrePdf::Uniform),
+                    ("solid-angle", CentrePdf::SolidAngle),
+                    ("cosine", CentrePdf::Cosine),
+                ],
+            )?;
+        }
+        if let Some(p) = &est.samplers {
+            estimators.samplers = ctx.names(
+                "estimators.samplers",
+                p,
+                &[
+                    ("random", SceneSampler::Random),
+                    ("jittered", SceneSampler::Jittered),
+                    ("multi-jittered", SceneSampler::MultiJittered),
+                    ("cmj", SceneSampler::Cmj),
+                    ("sobol", SceneSampler::Sobol),
+                ],
+            )?;
+        }
+        if let Some(l) = &est.segment_lengths {
+            if l.get_ref().is_empty() {
+                return Err(ctx.at(l.span(), "estimators.segment-lengths", "is empty".into()));
+            }
+            let mut v = Vec::new();
+            for (i, x) in l.get_ref().iter().enumerate() {
+                let name = format!("estimators.segment-lengths[{i}]");
+                let len = ctx.finite(&name, x)?;
+                // π as written to 16 digits (3.141592653589793) is the line.
+                if !(len > 0.0 && len <= std::f64::consts::PI) {
+                    return Err(ctx.at(x.span(), &name, format!("must be in (0, π], got {len}")));
+                }
+                v.push(len);
+            }
+            estimators.segment_lengths = v;
+        }
+    }
+    Ok(Scene {
+        camera,
+        spheres,
+        effect,
+        estimators,
+    })
+}
+
+struct Ctx<'a> {
+    path: &'a Path,
+    text: &'a str,
+}
+
+impl Ctx<'_> {
+    /// 1-based line and column of a byte offset.
+    fn line_col(&self, at: usize) -> (usize, usize) {
+        let at = at.min(self.text.len());
+        let before = &self.text[..at];
+        let line = before.matches('\n').count() + 1;
+        let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        (line, col)
+    }
+
+    fn at(&self, span: Range<usize>, field: &str, message: String) -> SceneError {
+        let (line, column) = if span.is_empty() && span.start == 0 {
+            (1, 1)
+        } else {
+            self.line_col(span.start)
+        };
+        SceneError {
+            file: self.path.to_path_buf(),
+            line,
+            column,
+            field: field.to_string(),
+            message,
+        }
+    }
+
+    /// A TOML reader error: the field is the one its message names in
+    /// backticks (unknown or missing fields), else the key on the line it
+    /// points at.
+    fn toml_error(&self, e: &toml::de::Error) -> SceneError {
+        let span = e.span().unwrap_or(0..0);
+        let msg = e.message().trim().to_string();
+        let named = msg
+            .split('`')
+            .nth(1)
+            .filter(|_| msg.contains("field"))
+            .map(ToString::to_string);
+        let field = named.unwrap_or_else(|| {
+            let start = self.text[..span.start.min(self.text.len())]
+                .rfind('\n')
+                .map_or(0, |i| i + 1);
+            let line = self.text[start..].lines().next().unwrap_or("").trim();
+            match line.split_once('=') {
+                Some((k, _)) => k.trim().to_string(),
+                None => line.to_string(),
+            }
+        });
+        let mut err = self.at(span, &field, msg);
+        if err.line == 1 && err.column == 1 && e.span().is_none() {
+            err.line = 0;
+            err.column = 0;
+        }
+        err
+    }
+
+    fn finite(&self, field: &str, v: &Spanned<f64>) -> Result<f64, SceneError> {
+        let x = *v.get_ref();
+        if x.is_finite() {
+            Ok(x)
+        } else {
+            Err(self.at(v.span(), field, format!("must be a finite number, got {x}")))
+        }
+    }
+
+    fn finite3(&self, field: &str, v: &Spanned<[f64; 3]>) -> Result<[f64; 3], SceneError> {
+        let x = *v.get_ref();
+        if let Some(j) = x.iter().position(|c| !c.is_finite()) {
+            return Err(self.at(
+                v.span(),
+                field,
+                format!("component {j} must be a finite number, got {}", x[j]),
+            ));
+        }
+        Ok(x)
+    }
+
+    fn names<T: Copy>(
+        &self,
+        field: &str,
+        list: &Spanned<Vec<Spanned<String>>>,
+        known: &[(&str, T)],
+    ) -> Result<Vec<T>, SceneError> {
+        if list.get_ref().is_empty() {
+            return Err(self.at(list.span(), field, "is empty".into()));
+        }
+        let mut out = Vec::new();
+        for (i, n) in list.get_ref().iter().enumerate() {
+            let Some(&(_, v)) = known.iter().find(|(k, _)| k == n.get_ref()) else {
+                let names: Vec<&str> = known.iter().map(|(k, _)| *k).collect();
+                return Err(self.at(
+                    n.span(),
+                    &format!("{field}[{i}]"),
+                    format!(
+                        "unknown name '{}' (known: {})",
+                        n.get_ref(),
+                        names.join(", ")
+                    ),
+                ));
+            };
+            out.push(v);
+        }
+        Ok(out)
+    }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn norm2(a: [f64; 3]) -> f64 {
+    a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
+}

@@ -1,0 +1,275 @@
+//! Scene files: the shipped AO scene reads back as the paper's scene, and
+//! every kind of mistake gives one error naming the file, line and field.
+
+use linesample_lab::scene::{self, CentrePdf, Effect, Primitive, SceneSampler};
+use std::path::Path;
+
+const GOOD: &str = r#"[camera]
+from = [1.0, 1.0, 10.0]
+at = [0.0, 0.0, -1.0]
+up = [0.0, 1.0, 0.0]
+fov = 40.0
+resolution = [64, 48]
+
+[[sphere]]
+centre = [0.0, 1.0, 0.0]
+radius = 1.0
+
+[[sphere]]
+centre = [0.0, -1000.0, 0.0]
+radius = 1000.0
+
+[effect]
+kind = "ambient-occlusion"
+max-distance = 500.0
+"#;
+
+/// `GOOD` with line `line` (1-based) replaced by `new` (several lines allowed).
+fn with_line(line: usize, new: &str) -> String {
+    let mut v: Vec<&str> = GOOD.lines().collect();
+    v[line - 1] = new;
+    v.join("\n") + "\n"
+}
+
+/// Parses `text` as `bad.toml` and checks the error's line, field and the
+/// words its message must contain; the displayed error starts with
+/// `bad.toml:LINE:`.
+fn fails(text: &str, line: usize, field: &str, words: &[&str]) {
+    let e = scene::parse(Path::new("scenes/bad.toml"), text).expect_err("should fail");
+    let shown = e.to_string();
+    assert_eq!(e.line, line, "{shown}");
+    assert_eq!(e.field, field, "{shown}");
+    assert!(
+        shown.starts_with(&format!("scenes/bad.toml:{line}:")),
+        "{shown}"
+    );
+    for w in words {
+        assert!(shown.contains(w), "'{w}' not in: {shown}");
+    }
+}
+
+#[test]
+fn the_shipped_ao_scene_is_the_papers() {
+    let s = scene::load(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/ao-spheres.toml"
+    )))
+    .unwrap();
+    assert_eq!(s.camera.from, [1.0, 1.0, 10.0]);
+    assert_eq!(s.camera.at, [0.0, 0.0, -1.0]);
+    assert_eq!(s.camera.up, [0.0, 1.0, 0.0]);
+    assert_eq!(s.camera.fov_deg, 40.0);
+    assert_eq!((s.camera.width, s.camera.height), (512, 512));
+    let spheres: Vec<([f64; 3], f64)> = s.spheres.iter().map(|d| (d.centre, d.radius)).collect();
+    assert_eq!(
+        spheres,
+        vec![
+            ([0.75, 0.125, 7.0], 0.125),
+            ([1.25, 0.25, 6.0], 0.25),
+            ([1.75, 0.6, 4.0], 0.5),
+            ([1.0, 1.5, 0.0], 1.0),
+            ([-1.5, 2.5, -2.0], 1.25),
+            ([-4.5, 3.5, -2.5], 1.5),
+            ([0.0, 0.75, 4.0], 0.75),
+            ([0.0, -1000.0, 0.0], 1000.0),
+        ]
+    );
+    assert_eq!(
+        s.effect,
+        Effect::AmbientOcclusion {
+            max_distance: 500.0
+        }
+    );
+    assert_eq!(
+        s.estimators.primitives,
+        vec![Primitive::Points, Primitive::Segments, Primitive::Lines]
+    );
+    assert_eq!(
+        s.estimators.segment_lengths,
+        vec![0.001, 0.1, 1.0, std::f64::consts::PI]
+    );
+    assert_eq!(
+        s.estimators.pdfs,
+        vec![CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine]
+    );
+    assert_eq!(s.estimators.samplers.len(), 5);
+    assert_eq!(s.estimators.samplers[2], SceneSampler::MultiJittered);
+    // The test scene parses too (estimators default).
+    let t = scene::parse(Path::new("t.toml"), GOOD).unwrap();
+    assert_eq!(t.spheres.len(), 2);
+    assert_eq!(t.estimators, scene::Estimators::default());
+}
+
+#[test]
+fn unknown_key() {
+    fails(
+        &with_line(10, "radius = 1.0\ncolour = 3"),
+        11,
+        "colour",
+        &["unknown field"],
+    );
+    fails(
+        &with_line(5, "fov = 40.0\nzoom = 2.0"),
+        6,
+        "zoom",
+        &["unknown field"],
+    );
+}
+
+#[test]
+fn unknown_table() {
+    fails(
+        &(GOOD.to_string() + "[light]\npower = 1.0\n"),
+        19,
+        "light",
+        &["unknown field"],
+    );
+}
+
+#[test]
+fn missing_field() {
+    let e = scene::parse(Path::new("scenes/bad.toml"), &with_line(10, "")).unwrap_err();
+    assert_eq!(e.field, "radius", "{e}");
+    assert!(e.to_string().contains("missing field"), "{e}");
+    assert!((8..=10).contains(&e.line), "{e}");
+    let e = scene::parse(Path::new("scenes/bad.toml"), &with_line(5, "")).unwrap_err();
+    assert_eq!(e.field, "fov", "{e}");
+    assert!((1..=6).contains(&e.line), "{e}");
+}
+
+#[test]
+fn negative_or_zero_radius() {
+    fails(
+        &with_line(14, "radius = -1000.0"),
+        14,
+        "sphere[1].radius",
+        &["must be positive", "-1000"],
+    );
+    fails(
+        &with_line(10, "radius = 0.0"),
+        10,
+        "sphere[0].radius",
+        &["must be positive"],
+    );
+}
+
+#[test]
+fn nan_and_infinite_numbers() {
+    fails(
+        &with_line(10, "radius = nan"),
+        10,
+        "sphere[0].radius",
+        &["finite", "NaN"],
+    );
+    fails(
+        &with_line(2, "from = [inf, 1.0, 10.0]"),
+        2,
+        "camera.from",
+        &["component 0", "finite"],
+    );
+    fails(
+        &with_line(13, "centre = [0.0, -nan, 0.0]"),
+        13,
+        "sphere[1].centre",
+        &["component 1"],
+    );
+    fails(
+        &with_line(18, "max-distance = inf"),
+        18,
+        "effect.max-distance",
+        &["finite"],
+    );
+    fails(&with_line(5, "fov = -inf"), 5, "camera.fov", &["finite"]);
+}
+
+#[test]
+fn wrong_type() {
+    fails(&with_line(5, "fov = \"wide\""), 5, "fov", &["string"]);
+    fails(
+        &with_line(6, "resolution = [64.5, 48]"),
+        6,
+        "resolution",
+        &[],
+    );
+    fails(&with_line(9, "centre = [0.0, 1.0]"), 9, "centre", &[]);
+}
+
+#[test]
+fn syntax_error() {
+    // The reader notices the unclosed array on the next line.
+    fails(
+        &with_line(9, "centre = [0.0, 1.0, 0.0"),
+        10,
+        "TOML syntax",
+        &["missing comma"],
+    );
+}
+
+#[test]
+fn out_of_range_camera() {
+    fails(&with_line(5, "fov = 180.0"), 5, "camera.fov", &["(0, 180)"]);
+    fails(
+        &with_line(6, "resolution = [0, 48]"),
+        6,
+        "camera.resolution",
+        &["width"],
+    );
+    fails(
+        &with_line(3, "at = [1.0, 1.0, 10.0]"),
+        3,
+        "camera.at",
+        &["equals camera.from"],
+    );
+    fails(
+        &with_line(4, "up = [-1.0, -1.0, -11.0]"),
+        4,
+        "camera.up",
+        &["parallel"],
+    );
+}
+
+#[test]
+fn unknown_effect_and_names() {
+    fails(
+        &with_line(17, "kind = \"caustics\""),
+        17,
+        "effect.kind",
+        &["unknown effect", "ambient-occlusion"],
+    );
+    fails(&with_line(18, ""), 16, "effect.max-distance", &["missing"]);
+    let est = "\n[estimators]\nsamplers = [\"random\", \"halton\"]\n";
+    fails(
+        &(GOOD.to_string() + est),
+        21,
+        "estimators.samplers[1]",
+        &["unknown name 'halton'", "sobol"],
+    );
+    let est = "\n[estimators]\npdfs = []\n";
+    fails(&(GOOD.to_string() + est), 21, "estimators.pdfs", &["empty"]);
+    let est = "\n[estimators]\nsegment-lengths = [0.1, 4.0]\n";
+    fails(
+        &(GOOD.to_string() + est),
+        21,
+        "estimators.segment-lengths[1]",
+        &["(0, π]"],
+    );
+}
+
+#[test]
+fn no_sphere_and_unreadable_file() {
+    let text: String = GOOD
+        .lines()
+        .take(6)
+        .chain(GOOD.lines().skip(15))
+        .collect::<Vec<_>>()
+        .join("\n");
+    let e = scene::parse(Path::new("scenes/bad.toml"), &text).unwrap_err();
+    assert_eq!(e.field, "sphere", "{e}");
+    assert!(e.to_string().contains("no [[sphere]]"), "{e}");
+    let e = scene::load(Path::new("scenes/does-not-exist.toml")).unwrap_err();
+    assert!(
+        e.to_string()
+            .starts_with("scenes/does-not-exist.toml:0:0: (file): cannot read it"),
+        "{e}"
+    );
+}
