@@ -420,6 +420,141 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     })
 }
 
+impl Camera {
+    /// The camera ray through raster point `(x, y)` (pixel `(i, j)` has its
+    /// centre at `(i + 0.5, j + 0.5)`; `(0, 0)` is the top left corner):
+    /// `(origin, unit direction)`. pbrt-v3's conventions: `LookAt` makes the
+    /// camera frame `right = up × dir`, `up' = dir × right` (so the image's
+    /// right is `up × dir`, e.g. world `−x` for a camera looking down `−z`),
+    /// and the perspective screen window is `[−a, a] × [−1, 1]` for aspect
+    /// `a = width/height ≥ 1` (`[−1, 1] × [−1/a, 1/a]` otherwise), scaled by
+    /// `tan(fov/2)`: the field of view spans the shorter image axis (the
+    /// vertical one for square and landscape images).
+    #[must_use]
+    pub fn ray(&self, x: f64, y: f64) -> ([f64; 3], [f64; 3]) {
+        let dir = unit(sub(self.at, self.from));
+        let right = unit(cross(unit(self.up), dir));
+        let up = cross(dir, right);
+        let (w, h) = (f64::from(self.width), f64::from(self.height));
+        let aspect = w / h;
+        let (sx, sy) = if aspect >= 1.0 {
+            (aspect, 1.0)
+        } else {
+            (1.0, 1.0 / aspect)
+        };
+        let t = (0.5 * self.fov_deg.to_radians()).tan();
+        let cx = (-sx + 2.0 * sx * x / w) * t;
+        let cy = (sy - 2.0 * sy * y / h) * t;
+        let d = unit([
+            cx * right[0] + cy * up[0] + dir[0],
+            cx * right[1] + cy * up[1] + dir[1],
+            cx * right[2] + cy * up[2] + dir[2],
+        ]);
+        (self.from, d)
+    }
+}
+
+/// Where a camera ray meets the scene first: the shading point, its unit
+/// outward normal and the sphere's index.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// The point.
+    pub point: [f64; 3],
+    /// The unit outward normal.
+    pub normal: [f64; 3],
+    /// Index of the sphere in [`Scene::spheres`].
+    pub sphere: usize,
+}
+
+impl Scene {
+    /// The scene's spheres as kernel spheres.
+    ///
+    /// # Errors
+    /// A radius outside the kernel's `[1e−100, 1e100]`.
+    pub fn kernel_spheres(&self) -> Result<Vec<linesample::world::Sphere<3>>, String> {
+        self.spheres
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                linesample::world::Sphere::new(s.centre, s.radius)
+                    .map_err(|e| format!("sphere[{i}]: {e}"))
+            })
+            .collect()
+    }
+
+    /// The first sphere the ray `origin + t·dir`, `t > 0`, meets
+    /// ([`linesample::world::Sphere::hit`]), or `None`.
+    #[must_use]
+    pub fn first_hit(
+        spheres: &[linesample::world::Sphere<3>],
+        origin: [f64; 3],
+        dir: [f64; 3],
+    ) -> Option<Hit> {
+        let ray = linesample::world::Ray::new(origin, dir).ok()?;
+        let mut best: Option<(f64, usize)> = None;
+        for (i, s) in spheres.iter().enumerate() {
+            if let Some((t0, t1)) = s.hit(&ray) {
+                let t = if t0 > 0.0 { t0 } else { t1 };
+                if t > 0.0 && best.is_none_or(|(b, _)| t < b) {
+                    best = Some((t, i));
+                }
+            }
+        }
+        let (t, i) = best?;
+        let point = ray.at(t);
+        let c = spheres[i].centre();
+        let r = spheres[i].radius();
+        let normal = unit([
+            (point[0] - c[0]) / r,
+            (point[1] - c[1]) / r,
+            (point[2] - c[2]) / r,
+        ]);
+        Some(Hit {
+            point,
+            normal,
+            sphere: i,
+        })
+    }
+}
+
+/// Ambient occlusion at a shading point by the line estimator: the mean over
+/// the azimuths `phis` (each in `[0, π)`) of the whole half-plane's visible
+/// cosine weight ([`linesample::world::HalfPlane::visible`]), i.e.
+/// `(1/N)Σ_k ∫_{−π/2}^{π/2} V(φ_k, θ)|sin θ| cos θ dθ`, an unbiased estimate
+/// of `AO = (1/π)∫_0^π dφ ∫ V|sin θ| cos θ dθ` for uniform `φ_k`.
+///
+/// # Errors
+/// A degenerate normal.
+pub fn ao_lines(
+    spheres: &[linesample::world::Sphere<3>],
+    max_distance: f64,
+    point: [f64; 3],
+    normal: [f64; 3],
+    phis: &[f64],
+) -> Result<f64, String> {
+    let t = if normal[0].abs() < 0.9 {
+        [1.0, 0.0, 0.0]
+    } else {
+        [0.0, 1.0, 0.0]
+    };
+    let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
+    let mut sum = 0.0;
+    for &phi in phis {
+        let hp = linesample::world::HalfPlane::at_azimuth(point, normal, t, phi)
+            .map_err(|e| format!("shading frame: {e}"))?;
+        let half = std::f64::consts::FRAC_PI_2;
+        sum += hp
+            .visible(spheres, max_distance, -half, half, &mut scratch)
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(sum / phis.len() as f64)
+}
+
+fn unit(a: [f64; 3]) -> [f64; 3] {
+    let l = norm2(a).sqrt();
+    [a[0] / l, a[1] / l, a[2] / l]
+}
+
 struct Ctx<'a> {
     path: &'a Path,
     text: &'a str,
