@@ -332,3 +332,31 @@ fn line_through_a_point_at_the_end_of_the_range_stays_finite() {
     let perp = ((d[0] - along * w[0]).powi(2) + (d[1] - along * w[1]).powi(2)).sqrt();
     assert!(perp <= 1e-15 * f64::MAX, "{perp:e}");
 }
+
+/// `world` fuzz target: a line through an origin at 6e30 along `(1, 1, 1)`,
+/// straddling the foot, passing 7e3 from a Gaussian of σ = 468 (the offset is
+/// below the rounding of the origin). `segment_fast` computed `ρ ≈ 0`, a
+/// value 4e48 times too large, and claimed `R = 1.2e−15`: its exponent term
+/// lacked the square of the offset's error. Now `R` is infinite or bounds
+/// the error.
+#[test]
+#[allow(clippy::excessive_precision)]
+fn world_gaussian_segment_fast_bound_holds_when_the_offset_is_lost() {
+    use linesample::world::{Gaussian as WorldGaussian, Ray};
+    let g = WorldGaussian::<3>::with_peak(
+        [4.97343564e-316, -8576.999481202103, -8577.501518339268],
+        4.6798443628627103e2,
+        2.0816811327277296e30,
+    )
+    .unwrap();
+    let o = 3.5295369653413445e30;
+    let ray = Ray::new([o, o, o], [1.0, 1.0, 1.0]).unwrap();
+    let (t0, t1) = (-6.601725478835641e32, 3.351697574722037e-294);
+    let exact = g.segment(&ray, t0, t1);
+    assert!(exact > 5e-16 && exact < 6e-16, "{exact:e}");
+    let (v, r) = g.segment_fast(&ray, t0, t1);
+    assert!(
+        !r.is_finite() || (v - exact).abs() <= r * exact,
+        "{v:e} R {r:e}"
+    );
+}

@@ -647,13 +647,15 @@ fn erfc_lane<L: F64Lane>(z: L) -> L {
 /// one side of the foot `D = |c0 − c1|`; straddling it
 /// `D = (1 − c0) + (1 − c1)` (`= erf(u1) + erf(−u0)`); value
 /// `mult·e^{−ρ²/2σ²}·(√π/2)·D`. First-order error terms, each generous:
-/// the exponent (`ρ²` from the offset error and the roundings)
-/// `|dE| ≤ (2ρ(2u|y|₁ + 2dy) + 8uρ²)/2σ²`; the arguments
+/// the exponent (`ρ²` from the offset error `δ = 2u|y|₁ + 2dy` and the
+/// roundings) `|dE| ≤ (2ρδ + δ² + 8uρ²)/2σ²`; the arguments
 /// `δu ≤ (δt_c + u(|t0| + |t1| + 2|t_c|))·√a/(σ√2) + u(|u0| + |u1|)` (finite
 /// ends only) with `δt_c ≤ (D + 2)u|y|₁ + 2dy + 2u|t_c|`; `D` from its two
 /// `erfc` (`ε0·c0 + ε1·c1`) and its roundings (`3u·D`), and its sensitivity
 /// `|∂D/∂u_i| = (2/√π)e^{−u_i²}` at each end, at most
-/// `min(1.13, (2z_i + 1.5)·erfc(z_i))` (Mills' ratio); plus `8u`
+/// `min(1.13, 1.11·(2z_i + 1.5)·erfc(z_i))` (Mills' ratio, widened by
+/// `e^{2z_i·δu} ≤ 1.11` for the whole uncertainty of `z_i`, and `1.13` where
+/// `2z_i·δu > 0.1`); plus `8u`
 /// for the exponential (`≤ 4u`) and the products. Unusable (`R = ∞`):
 /// `R ≥ 10⁻³` (a first-order bound means nothing once it is large: found by
 /// the `world` fuzz target), `E > 700`, a value below `1e−290`, or, on one
@@ -699,26 +701,20 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     let d_str = (one - c0) + (one - c1);
     let d = L::select(strad, d_str, d_same);
     let err_d = eps0 * c0 + eps1 * c1 + L::splat(3.0 * U) * d + cut;
-    // |∂D/∂u_i| = (2/√π)e^{−z_i²} at each end, at most
-    // min(1.13, (2z_i + 1.5)·erfc(z_i)) by Mills' ratio, and below 1e−294
-    // where z_i ≥ 26 (c_i was set to 0 there). An infinite end contributes
-    // nothing beyond that (a line's D does not depend on t_c).
-    let end_sens = |z: L, c: L| {
-        L::select(
-            z.lt(lim),
-            ((L::splat(2.0) * z + L::splat(1.5)) * c).min(L::splat(1.13)),
-            L::splat(1e-294),
-        )
-    };
-    let sens = end_sens(z0, c0) + end_sens(z1, c1);
     let e = rho2 * L::splat(c.inv_two_s2);
     let e_ok = e.le(L::splat(700.0));
     let ex = exp_neg_lane(e.min(L::splat(700.0)));
     let v = L::splat(c.mult) * ex * d;
     let rho = rho2.sqrt();
     let two = L::splat(2.0);
+    // The perpendicular offset is off by at most δ = 2u|y|₁ + 2dy, so ρ² by
+    // at most 2ρδ + δ² (the square matters where the computed ρ is ~0 but
+    // the offset's error is not: found by the `world` fuzz target, a line
+    // through an origin at 6e30 whose 7e3 offset from the centre is below
+    // the rounding of the origin).
+    let delta = two * u * y1 + two * dy;
     let de =
-        (two * rho * (two * u * y1 + two * dy) + L::splat(8.0) * u * rho2) * L::splat(c.inv_two_s2);
+        (two * rho * delta + delta * delta + L::splat(8.0) * u * rho2) * L::splat(c.inv_two_s2);
     let atc = tc.abs();
     let dtc = L::splat((D as f64 + 2.0) * U) * y1 + two * dy + two * u * atc;
     // Infinite ends (a line) contribute no argument error.
@@ -728,6 +724,20 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
         L::select(ax.lt(inf), ax, zero)
     };
     let du = (dtc + u * (L::splat(c.tsum) + two * atc)) * inv + u * (fin(u0) + fin(u1));
+    // |∂D/∂u_i| = (2/√π)e^{−u_i²} at each end, at most
+    // min(1.13, (2z_i + 1.5)·erfc(z_i)) by Mills' ratio at the computed z_i;
+    // over the whole uncertainty z_i ± δu the factor e^{−(z_i − δu)²} is at
+    // most e^{2z_i·δu} ≤ 1.11 times larger while 2z_i·δu ≤ 0.1, and past
+    // that only the global 1.13 holds. Where z_i ≥ 26 (c_i set to 0), the
+    // derivative is below 1e−294 as long as δu ≤ 1. An infinite end
+    // contributes nothing beyond that (a line's D does not depend on t_c).
+    let end_sens = |z: L, c: L| {
+        let local = (L::splat(1.11) * (L::splat(2.0) * z + L::splat(1.5)) * c).min(L::splat(1.13));
+        let near = (L::splat(2.0) * z * du).le(L::splat(0.1));
+        let far = L::select(du.le(one), L::splat(1e-294), L::splat(1.13));
+        L::select(z.lt(lim), L::select(near, local, L::splat(1.13)), far)
+    };
+    let sens = end_sens(z0, c0) + end_sens(z1, c1);
     let rel = L::splat(1.01) * (de + (err_d + sens * du) / d + L::splat(8.0 * U));
     // On one side of the foot, D is a difference of erfc values, which
     // have lost their precision near underflow; straddling, D ≥ 1 − c0 is
