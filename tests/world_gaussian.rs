@@ -463,13 +463,8 @@ fn hard_cases_3d() {
 fn segment_fast_exponent_error_is_bounded() {
     let mut worst: f64 = 0.0;
     let mut big = 0;
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut uni = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = common::XorShift(0x9e37_79b9_7f4a_7c15);
+    let mut uni = move || rng.uniform();
     for i in 0..3000 {
         let sigma = [1e-3, 1.0, 1e3][i % 3];
         let c = [0.3 * sigma, -0.7 * sigma, 0.2 * sigma];

@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::integrate;
+use common::{integrate, XorShift as Rng};
 use linesample::world::occlusion::{cosine_weight, visible_weight};
 use linesample::world::{HalfPlane, Ray, Sphere};
 use linesample::ParamError;
@@ -35,22 +35,6 @@ fn scene() -> Vec<Sphere<3>> {
         .iter()
         .map(|&(c, r)| Sphere::new(c, r).unwrap())
         .collect()
-}
-
-struct Rng(u64);
-impl Rng {
-    fn uni(&mut self) -> f64 {
-        self.0 ^= self.0 << 13;
-        self.0 ^= self.0 >> 7;
-        self.0 ^= self.0 << 17;
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn dir(&mut self) -> [f64; 3] {
-        let z = 2.0 * self.uni() - 1.0;
-        let t = 2.0 * PI * self.uni();
-        let s = (1.0 - z * z).sqrt();
-        [s * t.cos(), s * t.sin(), z]
-    }
 }
 
 /// Whether the ray `p + s·d`, `ε < s ≤ max`, meets a sphere's surface, by
@@ -115,7 +99,7 @@ fn reference(hp: &HalfPlane, spheres: &[Sphere<3>], max: f64, t0: f64, t1: f64) 
 /// at a random spot of its upper half (where the camera sees it).
 fn point_on(rng: &mut Rng, s: &Sphere<3>) -> ([f64; 3], [f64; 3]) {
     loop {
-        let n = rng.dir();
+        let n = rng.unit_vector();
         if n[1] > -0.2 {
             let c = s.centre();
             let r = s.radius();
@@ -132,7 +116,7 @@ fn occluded_angles_match_cast_rays() {
     for case in 0..300 {
         let on = &spheres[case % spheres.len()];
         let (p, n) = point_on(&mut rng, on);
-        let hp = HalfPlane::at_azimuth(p, n, rng.dir(), PI * rng.uni()).unwrap();
+        let hp = HalfPlane::at_azimuth(p, n, rng.unit_vector(), PI * rng.uniform()).unwrap();
         let max = [500.0, 2.0, 0.5][case % 3];
         for s in &spheres {
             let occ = hp.occluded(s, max);
@@ -167,14 +151,14 @@ fn visible_weight_matches_quadrature_in_the_ao_scene() {
     for case in 0..120 {
         let on = &spheres[case % spheres.len()];
         let (p, n) = point_on(&mut rng, on);
-        let hp = HalfPlane::at_azimuth(p, n, rng.dir(), PI * rng.uni()).unwrap();
+        let hp = HalfPlane::at_azimuth(p, n, rng.unit_vector(), PI * rng.uniform()).unwrap();
         let max = [500.0, 3.0][case % 2];
         // Whole lines and random segments of several lengths.
         let len = [PI, 1.0, 0.1, 1e-3][case % 4];
         let t0 = if len == PI {
             -FRAC_PI_2
         } else {
-            -FRAC_PI_2 + (PI - len) * rng.uni()
+            -FRAC_PI_2 + (PI - len) * rng.uniform()
         };
         let t1 = t0 + len;
         let got = hp.visible(&spheres, max, t0, t1, &mut scratch).unwrap();
@@ -233,7 +217,7 @@ fn grazing_cases() {
     for _ in 0..200 {
         let small = Sphere::new([0.3, 0.7, -0.2], 0.37).unwrap();
         let (q, m) = point_on(&mut rng, &small);
-        let h = HalfPlane::at_azimuth(q, m, rng.dir(), PI * rng.uni()).unwrap();
+        let h = HalfPlane::at_azimuth(q, m, rng.unit_vector(), PI * rng.uniform()).unwrap();
         let v = h
             .visible(&[small], max, -FRAC_PI_2, FRAC_PI_2, &mut scratch)
             .unwrap();
@@ -275,7 +259,7 @@ fn cosine_weight_is_the_integral() {
     let mut rng = Rng(3);
     for i in 0..2000 {
         let w = [1e-12, 1e-6, 1e-3, 0.3, 2.0][i % 5];
-        let a = -FRAC_PI_2 + (PI - w) * rng.uni();
+        let a = -FRAC_PI_2 + (PI - w) * rng.uniform();
         let b = a + w;
         let got = cosine_weight(a, b);
         // The kink at 0 split off for the quadrature.
@@ -312,16 +296,16 @@ fn wrapped_segments() {
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     for _ in 0..200 {
         let (p, n) = point_on(&mut rng, &spheres[7]);
-        let hp = HalfPlane::at_azimuth(p, n, rng.dir(), PI * rng.uni()).unwrap();
+        let hp = HalfPlane::at_azimuth(p, n, rng.unit_vector(), PI * rng.uniform()).unwrap();
         let whole = hp
             .visible(&spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, &mut scratch)
             .unwrap();
-        let t0 = 10.0 * rng.uni() - 5.0;
+        let t0 = 10.0 * rng.uniform() - 5.0;
         let v = hp
             .visible_wrapped(&spheres, 500.0, t0, PI, &mut scratch)
             .unwrap();
         assert_eq!(v, whole);
-        let len = 2.0 * rng.uni() + 0.5;
+        let len = 2.0 * rng.uniform() + 0.5;
         let a = t0 - PI * (t0 / PI).round();
         let got = hp
             .visible_wrapped(&spheres, 500.0, t0, len, &mut scratch)

@@ -24,6 +24,15 @@ kind = "ambient-occlusion"
 max-distance = 500.0
 "#;
 
+/// The shipped AO scene.
+fn ao_scene() -> scene::Scene {
+    scene::load(Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/ao-spheres.toml"
+    )))
+    .unwrap()
+}
+
 /// `GOOD` with line `line` (1-based) replaced by `new` (several lines allowed).
 fn with_line(line: usize, new: &str) -> String {
     let mut v: Vec<&str> = GOOD.lines().collect();
@@ -50,11 +59,7 @@ fn fails(text: &str, line: usize, field: &str, words: &[&str]) {
 
 #[test]
 fn the_shipped_ao_scene_is_the_papers() {
-    let s = scene::load(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../scenes/ao-spheres.toml"
-    )))
-    .unwrap();
+    let s = ao_scene();
     assert_eq!(s.camera.from, [1.0, 1.0, 10.0]);
     assert_eq!(s.camera.at, [0.0, 0.0, -1.0]);
     assert_eq!(s.camera.up, [0.0, 1.0, 0.0]);
@@ -279,11 +284,7 @@ fn no_sphere_and_unreadable_file() {
 /// `LookAt`), (300, 290) a sphere; the image centre looks along `at − from`.
 #[test]
 fn camera_rays_follow_pbrt() {
-    let s = scene::load(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../scenes/ao-spheres.toml"
-    )))
-    .unwrap();
+    let s = ao_scene();
     let spheres = s.kernel_spheres().unwrap();
     let (o, d) = s.camera.ray(410.5, 305.5);
     let h = scene::Scene::first_hit(&spheres, o, d).unwrap();
@@ -315,11 +316,7 @@ fn camera_rays_follow_pbrt() {
 /// a point nothing occludes.
 #[test]
 fn ao_by_lines_matches_cast_rays() {
-    let s = scene::load(Path::new(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../scenes/ao-spheres.toml"
-    )))
-    .unwrap();
+    let s = ao_scene();
     let spheres = s.kernel_spheres().unwrap();
     let (o, d) = s.camera.ray(410.5, 305.5);
     let h = scene::Scene::first_hit(&spheres, o, d).unwrap();
@@ -344,13 +341,8 @@ fn ao_by_lines_matches_cast_rays() {
         n[2] * t1[0] - n[0] * t1[2],
         n[0] * t1[1] - n[1] * t1[0],
     ];
-    let mut seed = 0x1234_5678_9abc_def1u64;
-    let mut uni = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = linesample::Pcg32::new(0x1234_5678_9abc_def1, 1);
+    let mut uni = move || f64::from(rng.next_u32()) / 4_294_967_296.0;
     let rays = 200_000;
     let mut free = 0usize;
     let eps = 1e-9 * (1.0 + dot(h.point, h.point).sqrt());

@@ -46,10 +46,10 @@ const AXIS: usize = 12;
 /// `2⁻⁶⁰`: the relative size below which the remaining images are dropped.
 const TWO_M60: f64 = 8.673_617_379_884_035e-19;
 
-/// Images bounded below this share (`2⁻²⁰`) of the sum so far are evaluated in
+/// Images bounded below this share (`2⁻¹⁰`) of the sum so far are evaluated in
 /// `f64` SIMD lanes (`world::Gaussian::segment_far4`), the rest in
 /// double-double.
-const FAR: f64 = 9.765625e-4;
+const FAR: f64 = 9.765_625e-4;
 
 /// `π` as a double-double.
 const PI_LO: f64 = 1.2246467991473532e-16;
@@ -385,11 +385,7 @@ impl<const D: usize> Gaussian<D> {
                 d2 += d * d;
             }
             if d2 <= r2 && !(sum > 0.0 && self.below_half_ulp(d2, cap, sum)) {
-                let mut qm = *q;
-                for j in 0..D {
-                    qm[j] = q[j].sub(Dd::new(m[j] as f64));
-                }
-                sum += self.free.segment_with(&qm, w, k, t0, t1);
+                sum += self.image_dd(q, &m.map(|x| x as f64), w, k, t0, t1);
             }
             let mut j = 0;
             loop {
@@ -427,7 +423,7 @@ impl<const D: usize> Gaussian<D> {
     /// `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest first
     /// is also the accurate order. For an oblique piece this evaluates only
     /// the images near the line, where the box test keeps every image near
-    /// the box. Once an image is bounded below `2⁻²⁰` of the running sum,
+    /// the box. Once an image is bounded below `2⁻¹⁰` of the running sum,
     /// it and the rest are evaluated four at a time in `f64` SIMD lanes
     /// ([`crate::world::Gaussian::segment_fast`]'s kernel, with its relative
     /// error bound `R`; bit for bit the scalar kernel's values) and each is
@@ -575,7 +571,7 @@ impl<const D: usize> Gaussian<D> {
                     break;
                 }
             }
-            sum += self.image_dd(q, &img[i], w, k, t0, t1);
+            sum += self.image_dd(q, &img[i].map(f64::from), w, k, t0, t1);
             i += 1;
         }
         if i == n {
@@ -591,6 +587,7 @@ impl<const D: usize> Gaussian<D> {
         // only grow it) cuts no earlier than the sequential rule.
         let sum0 = sum;
         let inv2s2 = 1.0 / self.two_s2.hi;
+        let far = self.free.far_consts(w, k, t0, t1);
         // The groups stop at `end`, a first cut found in log space (no
         // exponential per image): n·cap·(1 + 10⁻⁶)·e^{−key(1−10⁻⁹)/2σ²} <
         // 2⁻⁶⁰·sum0 ⇐ key(1−10⁻⁹)/2σ² > x_stop for any x_stop ≥ the log of
@@ -612,7 +609,7 @@ impl<const D: usize> Gaussian<D> {
                     dy[l] = dy[l].max(0.51 * f64::EPSILON * (q[j].hi.abs() + y[l][j].abs()));
                 }
             }
-            let (v, rel) = self.free.segment_far4(&y, &dy, w, k, t0, t1);
+            let (v, rel) = FreeGaussian::segment_far4(&far, &y, &dy);
             // The image bounds in the same lanes (the exponent clamped at 700,
             // which only raises a bound; the lane exponential's 4u error is
             // inside the 10⁻⁶ slack).
@@ -627,7 +624,7 @@ impl<const D: usize> Gaussian<D> {
                 if bound[l] * rel[l] < TWO_M60 * sum0 {
                     sum += v[l];
                 } else {
-                    sum += self.image_dd(q, &img[idx[l]], w, k, t0, t1);
+                    sum += self.image_dd(q, &img[idx[l]].map(f64::from), w, k, t0, t1);
                 }
             }
             i += 4;
@@ -635,13 +632,14 @@ impl<const D: usize> Gaussian<D> {
         Some(sum)
     }
 
-    /// The free-space integral over the piece of the image `c + m`, in
-    /// double-double ([`crate::world::Gaussian`]'s exact form).
+    /// The free-space integral over the piece of the image `c + m` (integer
+    /// offsets `m`), in double-double ([`crate::world::Gaussian`]'s exact
+    /// form).
     #[inline]
     fn image_dd(
         &self,
         q: &[Dd; D],
-        m: &[i16; D],
+        m: &[f64; D],
         w: &[f64; D],
         k: &crate::world::gaussian::LineConsts,
         t0: f64,
@@ -649,7 +647,7 @@ impl<const D: usize> Gaussian<D> {
     ) -> f64 {
         let mut qm = *q;
         for j in 0..D {
-            qm[j] = q[j].sub(Dd::new(f64::from(m[j])));
+            qm[j] = q[j].sub(Dd::new(m[j]));
         }
         self.free.segment_with(&qm, w, k, t0, t1)
     }
@@ -671,7 +669,7 @@ impl<const D: usize> Gaussian<D> {
 
 /// An upper bound on `ln x` for `x > 0` from the binary exponent alone:
 /// `x < 2^{e+1}` with `e = ⌊log₂ x⌋`, so `ln x < (e + 1)·ln 2` (over by at most
-/// `ln 2`; `+∞` for `x = +∞` or NaN, and `ln 2·(−1021)` for subnormal `x`,
+/// `ln 2`; `+∞` for `x = +∞` or NaN, and `(−1022)·ln 2` for subnormal `x`,
 /// which is still an upper bound there).
 #[inline]
 fn ln_upper(x: f64) -> f64 {

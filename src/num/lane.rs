@@ -55,6 +55,8 @@ pub(crate) trait Lane:
     /// Whether any lane of `m` is set (to skip work no lane needs; the
     /// selected results are the same either way).
     fn any(m: Self::Mask) -> bool;
+    /// `a && b`, lane by lane.
+    fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
     /// `a·b + c` with one rounding.
     fn fma(a: Self, b: Self, c: Self) -> Self;
     /// `self < o ? a : b`, lane by lane.
@@ -151,6 +153,10 @@ macro_rules! scalar_lane {
                 m
             }
             #[inline(always)]
+            fn and(a: bool, b: bool) -> bool {
+                a && b
+            }
+            #[inline(always)]
             fn fma(a: Self, b: Self, c: Self) -> Self {
                 $fma(a, b, c)
             }
@@ -226,6 +232,10 @@ macro_rules! vector_lane {
             #[inline(always)]
             fn any(m: $v) -> bool {
                 m.any()
+            }
+            #[inline(always)]
+            fn and(a: $v, b: $v) -> $v {
+                a & b
             }
             #[inline(always)]
             fn fma(a: Self, b: Self, c: Self) -> Self {

@@ -404,9 +404,10 @@ impl<const D: usize> Gaussian<D> {
     /// (`≤ 4u`). `R` adds first-order bounds for the exponent (`ρ²` and its
     /// roundings, which grow with `|q|ρ/σ²`), the arguments, the two `erfc`,
     /// the cancellation of their difference and the sensitivity of `G` to its
-    /// arguments (at most `(2v0 + 1.5)·erfc(v0)` per unit on one side, by the
-    /// Mills-ratio bound `erfc(v) > (2/√π)e^{−v²}/(v + √(v² + 2))`,
-    /// Abramowitz & Stegun 7.1.13). Typically `R ≈ 10⁻¹⁴…10⁻¹²`. The same
+    /// arguments (at most `(2z + 1.5)·erfc(z)` per unit at an end `z = |u|`,
+    /// by the Mills-ratio bound `erfc(v) > (2/√π)e^{−v²}/(v + √(v² + 2))`,
+    /// Abramowitz & Stegun 7.1.13, widened for the argument's own
+    /// uncertainty; see `far_kernel`). Typically `R ≈ 10⁻¹⁴…10⁻¹²`. The same
     /// kernel runs in `f64` SIMD lanes (bit for bit) for the far images of the
     /// torus Gaussian's periodised sums, whose error then stays below `2⁻⁶⁰`
     /// of the sum. Tested against the independent references
@@ -431,27 +432,25 @@ impl<const D: usize> Gaussian<D> {
 
     /// [`Gaussian::segment_fast`]'s kernel for four offsets `y ≈ q` at once
     /// (`f64` SIMD lanes, `wide::f64x4`), each given as doubles with an error
-    /// bound `dy` (`|y_j − q_j| ≤ dy`): the far images of a periodised piece.
+    /// bound `dy` (`|y_j − q_j| ≤ dy`), with the piece's constants
+    /// ([`Gaussian::far_consts`], formed once per piece): the far images of
+    /// a periodised piece.
     /// `(values, R)` per lane, `R = ∞` where no useful bound holds. Each lane
     /// is exactly the scalar kernel's result (`far_kernel` on `f64`, tested
     /// lane by lane), so results do not depend on how the images are grouped.
     pub(crate) fn segment_far4(
-        &self,
+        c: &FarConsts<D>,
         y: &[[f64; D]; 4],
         dy: &[f64; 4],
-        w: &[f64; D],
-        k: &LineConsts,
-        t0: f64,
-        t1: f64,
     ) -> ([f64; 4], [f64; 4]) {
-        let c = self.far_consts(w, k, t0, t1);
         let yl: [f64x4; D] =
             core::array::from_fn(|j| f64x4::from([y[0][j], y[1][j], y[2][j], y[3][j]]));
-        let (v, r) = far_kernel::<f64x4, D>(&c, yl, f64x4::from(*dy));
+        let (v, r) = far_kernel::<f64x4, D>(c, yl, f64x4::from(*dy));
         (v.to_array(), r.to_array())
     }
 
-    /// The constants of `far_kernel` for one piece.
+    /// The constants of `far_kernel` for one piece (direction, its
+    /// [`LineConsts`] and the ends).
     pub(crate) fn far_consts(
         &self,
         w: &[f64; D],
@@ -695,8 +694,7 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     let cut = L::select(z0.lt(lim), zero, L::splat(6e-296))
         + L::select(z1.lt(lim), zero, L::splat(6e-296));
     // Straddling: u0 < 0 < u1.
-    let straddle = L::select(u0.lt(zero), one, zero) * L::select(zero.lt(u1), one, zero);
-    let strad = straddle.gt(zero);
+    let strad = L::and(u0.lt(zero), zero.lt(u1));
     let d_same = (c0 - c1).abs();
     let d_str = (one - c0) + (one - c1);
     let d = L::select(strad, d_str, d_same);
@@ -743,11 +741,11 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     // have lost their precision near underflow; straddling, D ≥ 1 − c0 is
     // never small that way.
     let mag = L::select(strad, one, c0 + c1);
-    let usable = L::select(rel.lt(L::splat(1e-3)), one, zero)
-        * L::select(e_ok, one, zero)
-        * L::select(L::splat(1e-290).le(v.abs()), one, zero)
-        * L::select(L::splat(1e-280).le(mag), one, zero);
-    (v, L::select(usable.gt(zero), rel, L::splat(f64::INFINITY)))
+    let usable = L::and(
+        L::and(rel.lt(L::splat(1e-3)), e_ok),
+        L::and(L::splat(1e-290).le(v.abs()), L::splat(1e-280).le(mag)),
+    );
+    (v, L::select(usable, rel, L::splat(f64::INFINITY)))
 }
 
 /// Runs an 8-lane kernel over full blocks of a ray batch and its scalar twin
@@ -917,13 +915,8 @@ mod tests {
         let g = Gaussian::<3>::normalised([0.3, 0.6, 0.1], 0.1).unwrap();
         let w = [0.6, 0.0, 0.8];
         let k = g.line_consts(&w);
-        let mut rng = 0x2545_f491_4f6c_dd1du64;
-        let mut uni = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::Pcg32::new(0x2545_f491_4f6c_dd1d, 1);
+        let mut uni = || f64::from(rng.next_u32()) / 4_294_967_296.0;
         let ends = [
             (-0.1, 0.1),
             (0.05, 0.3),
@@ -943,7 +936,7 @@ mod tests {
                     core::array::from_fn(|j| f64x4::from([y[0][j], y[1][j], y[2][j], y[3][j]]));
                 let (v, r) = far_kernel::<f64x4, 3>(&c, yl, f64x4::from(dy));
                 let (v, r) = (v.to_array(), r.to_array());
-                let (v4, r4) = g.segment_far4(&y, &dy, &w, &k, t0, t1);
+                let (v4, r4) = Gaussian::<3>::segment_far4(&c, &y, &dy);
                 for l in 0..4 {
                     let (sv, sr) = far_kernel::<f64, 3>(&c, y[l], dy[l]);
                     assert_eq!(sv.to_bits(), v[l].to_bits(), "{y:?} {t0} {t1}");

@@ -125,13 +125,14 @@ impl HalfPlane {
         super::check_finite("normal", &n)?;
         super::check_finite("azimuth", &a)?;
         let n = unit(n).ok_or(ParamError::ZeroDirection)?;
-        let an = dot(&a, &n);
-        let a = unit([a[0] - an * n[0], a[1] - an * n[1], a[2] - an * n[2]])
-            .ok_or(ParamError::ZeroDirection)?;
-        // Re-orthogonalise once more against rounding, then n × a.
-        let an = dot(&a, &n);
-        let a = unit([a[0] - an * n[0], a[1] - an * n[1], a[2] - an * n[2]])
-            .ok_or(ParamError::ZeroDirection)?;
+        // a without its component along n, normalised; twice, so that the
+        // rounding of the first pass leaves no normal component.
+        let reject = |a: [f64; 3]| {
+            let an = dot(&a, &n);
+            unit([a[0] - an * n[0], a[1] - an * n[1], a[2] - an * n[2]])
+                .ok_or(ParamError::ZeroDirection)
+        };
+        let a = reject(reject(a)?)?;
         Ok(Self {
             p,
             n,
@@ -226,15 +227,13 @@ impl HalfPlane {
             if d - r >= max_dist {
                 return out;
             }
-            let beta = if on_surface {
-                FRAC_PI_2
+            // The distance to the tangent points, √(D² − r²), and the half
+            // angle β = atan2(r, that) of the whole disc.
+            let (tangent, beta) = if on_surface {
+                (0.0, FRAC_PI_2)
             } else {
-                libm::atan2(r, crate::num::scalar::sqrt(out2))
-            };
-            let tangent = if on_surface {
-                0.0
-            } else {
-                crate::num::scalar::sqrt(out2)
+                let t = crate::num::scalar::sqrt(out2);
+                (t, libm::atan2(r, t))
             };
             let w = if tangent <= max_dist {
                 beta
@@ -264,13 +263,12 @@ impl HalfPlane {
             return out;
         }
         // The arc [centre − half, centre + half] (centre ∈ [−π, π], half < π)
-        // and its copies shifted by ±2π, each cut to [−π/2, π/2].
+        // and its copies shifted by ±2π, each cut to [−π/2, π/2]. The copies
+        // are disjoint (width 2·half < 2π) and pushed left to right, so the
+        // pieces come out in increasing order.
         for k in [-1.0, 0.0, 1.0] {
             let shift = 2.0 * PI * k;
             out.push(centre - half + shift, centre + half + shift);
-        }
-        if out.len == 2 && out.pieces[0].0 > out.pieces[1].0 {
-            out.pieces.swap(0, 1);
         }
         out
     }
@@ -315,9 +313,7 @@ impl HalfPlane {
         }
         Ok(visible_weight(&mut scratch[..m], t0, t1))
     }
-}
 
-impl HalfPlane {
     /// [`HalfPlane::visible`] over a segment of the angle `θ` that wraps with
     /// period `π`: `[θ0, θ0 + len]` with `θ0` reduced to `[−π/2, π/2)` and the
     /// part beyond `π/2` continued from `−π/2` (`len = π` is the whole
@@ -390,14 +386,7 @@ pub fn cosine_weight(a: f64, b: f64) -> f64 {
 /// summed over the visible gaps directly (no subtraction from the total, so a
 /// mostly occluded segment keeps its relative accuracy).
 pub fn visible_weight(occluded: &mut [(f64, f64)], t0: f64, t1: f64) -> f64 {
-    // Insertion sort by start: the lists are short (a few spheres).
-    for i in 1..occluded.len() {
-        let mut j = i;
-        while j > 0 && occluded[j - 1].0 > occluded[j].0 {
-            occluded.swap(j - 1, j);
-            j -= 1;
-        }
-    }
+    occluded.sort_unstable_by(|x, y| x.0.total_cmp(&y.0));
     let mut sum = 0.0;
     let mut at = t0;
     for &(lo, hi) in occluded.iter() {

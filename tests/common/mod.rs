@@ -146,3 +146,25 @@ fn gk15_is_exact_for_degree_23_polynomials() {
     let v = integrate(|x| (-x * x).exp(), -30.0, 30.0, 1e-15);
     assert!(rel_err(v, core::f64::consts::PI.sqrt()) < 1e-15, "{v}");
 }
+
+/// A xorshift64 generator for test inputs (Marsaglia 2003): deterministic,
+/// independent of the kernel's own generators.
+pub struct XorShift(pub u64);
+
+impl XorShift {
+    /// Uniform in `[0, 1)` with 53 random bits.
+    pub fn uniform(&mut self) -> f64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// A uniform unit vector in 3D (`z` uniform, azimuth uniform).
+    pub fn unit_vector(&mut self) -> [f64; 3] {
+        let z = 2.0 * self.uniform() - 1.0;
+        let t = std::f64::consts::TAU * self.uniform();
+        let s = (1.0 - z * z).sqrt();
+        [s * t.cos(), s * t.sin(), z]
+    }
+}
