@@ -417,18 +417,23 @@ impl<const D: usize> Gaussian<D> {
     /// the piece the integrand is at most `e^{−(ρ² + aτ²)/2σ²}` times the
     /// 1D Gaussian beyond the foot, so the image's integral is at most
     /// `cap·e^{−δ²/2σ²}` (`cap = peak·min(length, σ√(2π))`, with the slack of
-    /// [`Self::below_half_ulp`]). After sorting by `δ²`, once the sum is
-    /// positive and `(remaining count)·cap·e^{−δ²_next/2σ²} < 2⁻⁶⁰·sum`,
-    /// the remaining images are dropped: a relative truncation below
-    /// `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest first
-    /// is also the accurate order. For an oblique piece this evaluates only
-    /// the images near the line, where the box test keeps every image near
-    /// the box. Once an image is bounded below `2⁻¹⁰` of the running sum,
-    /// it and the rest are evaluated four at a time in `f64` SIMD lanes
+    /// [`Self::below_half_ulp`]). In order of `δ²` (a stable sort), once the
+    /// sum is positive and `(remaining count)·cap·e^{−δ²_next/2σ²} <
+    /// 2⁻⁶⁰·sum`, the remaining images are dropped: a relative truncation
+    /// below `9e−19`, on top of the `e^{−45}` image cutoff. Summing nearest
+    /// first is also the accurate order. Only a prefix of that order is
+    /// sorted: the nearest candidate is evaluated first, and the candidates
+    /// that rule would drop even against its value alone are never sorted.
+    /// For an oblique piece this evaluates only the images near the line,
+    /// where the box test keeps every image near the box. Once an image is
+    /// bounded below `2⁻¹⁰` of the running sum, it and the rest are
+    /// evaluated four at a time in `f64` SIMD lanes
     /// ([`crate::world::Gaussian::segment_fast`]'s kernel, with its relative
-    /// error bound `R`; bit for bit the scalar kernel's values) and each is
-    /// kept when `bound·R < 2⁻⁶⁰·sum`, else evaluated in double-double; the
-    /// sum's total error from both shortcuts stays below `n·2⁻⁶⁰` of it.
+    /// error bound `R`; bit for bit the scalar kernel's values) and each
+    /// value `v` is kept when `min(bound, 1.002|v|)·R < 2⁻⁶⁰·sum` (the exact
+    /// value is at most `|v|/(1 − R)`, `R < 10⁻³`), else evaluated in
+    /// double-double; the sum's total error from both shortcuts stays below
+    /// `n·2⁻⁶⁰` of it.
     fn sorted_images(
         &self,
         q: &[Dd; D],
@@ -544,26 +549,66 @@ impl<const D: usize> Gaussian<D> {
                     let tau = (t0 - tf).max(tf - t1) - (slack + 1e-12 * tf.abs());
                     let tau = tau.max(0.0);
                     let dist2 = rho2.max(0.0) + a * tau * tau * (1.0 - 1e-12);
-                    // Insertion into the sorted prefix (stable: ties keep the
-                    // walk order).
-                    let mut i = n;
-                    while i > 0 && key[i - 1] > dist2 {
-                        key[i] = key[i - 1];
-                        img[i] = img[i - 1];
-                        i -= 1;
-                    }
-                    key[i] = dist2;
-                    img[i] = m;
+                    key[n] = dist2;
+                    img[n] = m;
                     n += 1;
                 }
             }
         }
-        let mut sum = 0.0;
-        let mut i = 0;
-        // Near images, nearest first, in double-double.
-        while i < n {
+        if n == 0 {
+            return Some(0.0);
+        }
+        // The nearest candidate (the first in walk order among equal keys,
+        // where a stable sort would put it) is evaluated first, and its value
+        // decides which others can matter: one whose key exceeds the cut
+        // below has n·bound < 2⁻⁶⁰·sum₁ ≤ 2⁻⁶⁰·sum (the sum only grows), so
+        // the nearest-first rule below would stop at or before it. Only the
+        // candidates within the cut are sorted, which is the prefix of the
+        // full stable sort: the same images in the same order as sorting all
+        // of them, without the quadratic insertion over every candidate.
+        let mut first = 0;
+        for c in 1..n {
+            if key[c] < key[first] {
+                first = c;
+            }
+        }
+        let inv2s2 = 1.0 / self.two_s2.hi;
+        let sum1 = self.image_dd(q, &img[first].map(f64::from), w, k, t0, t1);
+        // The cut in log space, raised by 10⁻⁹ so that a candidate beyond it
+        // fails the exact test with the lane exponential's rounding too.
+        let x_cut = if sum1 > 0.0 && sum1.is_finite() {
+            ln_upper(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum1)) + 1e-9
+        } else {
+            f64::INFINITY
+        };
+        let mut kept = 0;
+        for c in 0..n {
+            let (kc, mc) = (key[c], img[c]);
+            if kc * (1.0 - 1e-9) * inv2s2 > x_cut {
+                continue;
+            }
+            // Stable insertion into the sorted prefix.
+            let mut i = kept;
+            while i > 0 && key[i - 1] > kc {
+                key[i] = key[i - 1];
+                img[i] = img[i - 1];
+                i -= 1;
+            }
+            key[i] = kc;
+            img[i] = mc;
+            kept += 1;
+        }
+        let mut sum = sum1;
+        let mut i = 1;
+        // Near images, nearest first, in double-double. The bounds use the
+        // lane exponential (4u; the 10⁻⁶ slack of `image_bound` covers it),
+        // the exponent clamped at 700, which only raises a bound.
+        let bound_of = |d2: f64| {
+            exp_neg_lane::<f64>((d2 * (1.0 - 1e-9) * inv2s2).min(700.0)) * (bx.cap * (1.0 + 1e-6))
+        };
+        while i < kept {
             if sum > 0.0 {
-                let bound = self.image_bound(key[i], bx.cap);
+                let bound = bound_of(key[i]);
                 if (n - i) as f64 * bound < TWO_M60 * sum {
                     return Some(sum);
                 }
@@ -574,7 +619,7 @@ impl<const D: usize> Gaussian<D> {
             sum += self.image_dd(q, &img[i].map(f64::from), w, k, t0, t1);
             i += 1;
         }
-        if i == n {
+        if i == kept {
             return Some(sum);
         }
         // Far images: every remaining image is bounded below FAR·sum (keys
@@ -586,7 +631,6 @@ impl<const D: usize> Gaussian<D> {
         // double-double. Comparing with the sum before the far images (which
         // only grow it) cuts no earlier than the sequential rule.
         let sum0 = sum;
-        let inv2s2 = 1.0 / self.two_s2.hi;
         let far = self.free.far_consts(w, k, t0, t1);
         // The groups stop at `end`, a first cut found in log space (no
         // exponential per image): n·cap·(1 + 10⁻⁶)·e^{−key(1−10⁻⁹)/2σ²} <
@@ -595,7 +639,7 @@ impl<const D: usize> Gaussian<D> {
         // rule's cut (the lanes apply the exact rule).
         let x_stop = ln_upper(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum0));
         let mut end = i;
-        while end < n && key[end] * (1.0 - 1e-9) * inv2s2 <= x_stop {
+        while end < kept && key[end] * (1.0 - 1e-9) * inv2s2 <= x_stop {
             end += 1;
         }
         while i < end {
@@ -621,7 +665,9 @@ impl<const D: usize> Gaussian<D> {
                 if n as f64 * bound[l] < TWO_M60 * sum0 {
                     return Some(sum);
                 }
-                if bound[l] * rel[l] < TWO_M60 * sum0 {
+                // |exact| ≤ min(bound, |v|/(1 − R)) with R < 10⁻³ where
+                // usable (R = ∞ otherwise, which never passes).
+                if bound[l].min(1.002 * v[l].abs()) * rel[l] < TWO_M60 * sum0 {
                     sum += v[l];
                 } else {
                     sum += self.image_dd(q, &img[idx[l]].map(f64::from), w, k, t0, t1);

@@ -85,6 +85,19 @@ pub fn sqrt(x: f64) -> f64 {
 #[inline(always)]
 #[must_use]
 pub fn floor(x: f64) -> f64 {
+    // One `roundsd` (IEEE floor: exact, −0 and NaN/∞ kept) where SSE4.1 is
+    // enabled, else the truncation below (the same values).
+    #[cfg(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse4.1"
+    ))]
+    {
+        wide::f64x2::splat(x).floor().to_array()[0]
+    }
+    #[cfg(not(all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "sse4.1"
+    )))]
     if x.abs() < TWO_52 {
         // Truncation toward zero is exact for |x| < 2⁵² (< 2⁶³).
         let t = x as i64 as f64;
