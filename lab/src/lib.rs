@@ -22,6 +22,7 @@
 //!   `linesample-lab spectrum --input` reads (text in, points or an error
 //!   naming the line and column out).
 
+pub mod ao;
 pub mod cli;
 mod dims;
 pub mod experiments;

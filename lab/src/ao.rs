@@ -1,0 +1,149 @@
+//! Ambient-occlusion estimators at one shading point: points, segments and
+//! lines in the half-plane parameterisation, for each centre density.
+//!
+//! With the azimuth `φ ∈ [0, π)` naming the half-plane through the normal
+//! and the signed polar angle `θ ∈ (−π/2, π/2)` a direction in it, every
+//! direction of the hemisphere is named once and `dω = |sin θ| dθ dφ`, so
+//!
+//! ```text
+//! AO = (1/π) ∫_0^π dφ ∫ V(φ, θ) |sin θ| cos θ dθ = ∫∫ g,   g = V|sin θ|cos θ/π.
+//! ```
+//!
+//! A sample `(u, v) ∈ [0, 1)²` gives `φ = πu` and a centre `θ_c` from `v`
+//! by the inverse CDF of the chosen centre density `p_θ` (the joint density
+//! is `p = p_θ/π`):
+//!
+//! * uniform: `θ = π(v − ½)`, `p_θ = 1/π`;
+//! * solid angle: `s = 2v − 1`, `|θ| = acos(1 − |s|)` with the sign of `s`,
+//!   `p_θ = |sin θ|/2` (`p = |sin θ|/2π`, uniform over the hemisphere's `2π`);
+//! * cosine: `|θ| = asin √|s|`, `p_θ = |sin θ| cos θ` (`∫ = 1`).
+//!
+//! The point estimate is `g(φ, θ)/p`; a segment of length `ℓ` in `θ`
+//! centred at `θ_c` (wrapping with period `π`, so `ℓ = π` is the whole line)
+//! gives `[(1/ℓ) ∫_{θ_c−ℓ/2}^{θ_c+ℓ/2} g dt]/p(φ, θ_c)`, unbiased because
+//! every `t` is covered by the centres within `ℓ/2` of it, of total measure
+//! `ℓ`; a line uses `u` only and gives `∫ g dθ · π = ∫ V|sin θ|cos θ dθ`.
+//! The visible measures are the kernel's closed forms
+//! ([`linesample::world::HalfPlane::visible_wrapped`]).
+//!
+//! The cosine density with a long segment divides by `p_θ(θ_c)`, which is 0
+//! at the normal while the segment's mean is not: the estimate has infinite
+//! variance (the pitfall the scenes report shows).
+
+use linesample::world::{HalfPlane, Sphere};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+use crate::scene::{CentrePdf, Primitive};
+
+/// One AO estimator: a primitive (with its segment length in `θ`) and a
+/// centre density.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AoEstimator {
+    /// Points, segments or lines.
+    pub primitive: Primitive,
+    /// Segment length in `θ`, in `(0, π]` (segments only).
+    pub length: f64,
+    /// Density of the sample centres (points and segments).
+    pub pdf: CentrePdf,
+}
+
+/// The shading point: the point, its unit normal, and a tangent from which
+/// azimuths are measured.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Frame {
+    /// The shading point.
+    pub point: [f64; 3],
+    /// Its unit normal.
+    pub normal: [f64; 3],
+    /// A direction not parallel to the normal (`φ = 0` is its projection).
+    pub tangent: [f64; 3],
+}
+
+impl Frame {
+    /// The frame at `point` with `normal`, the tangent chosen from the axis
+    /// least aligned with it.
+    #[must_use]
+    pub fn new(point: [f64; 3], normal: [f64; 3]) -> Self {
+        let tangent = if normal[0].abs() < 0.9 {
+            [1.0, 0.0, 0.0]
+        } else {
+            [0.0, 1.0, 0.0]
+        };
+        Self {
+            point,
+            normal,
+            tangent,
+        }
+    }
+}
+
+/// `(θ, p_θ(θ))` for the centre coordinate `v ∈ [0, 1)` under `pdf`.
+#[must_use]
+pub fn centre_theta(pdf: CentrePdf, v: f64) -> (f64, f64) {
+    match pdf {
+        CentrePdf::Uniform => (PI * (v - 0.5), 1.0 / PI),
+        CentrePdf::SolidAngle => {
+            let s = 2.0 * v - 1.0;
+            let a = (1.0 - s.abs()).clamp(-1.0, 1.0).acos();
+            let t = a.copysign(s);
+            (t, 0.5 * t.sin().abs())
+        }
+        CentrePdf::Cosine => {
+            let s = 2.0 * v - 1.0;
+            let a = s.abs().sqrt().min(1.0).asin();
+            let t = a.copysign(s);
+            (t, t.sin().abs() * t.cos())
+        }
+    }
+}
+
+/// The estimate of one sample `(u, v)`: see the module documentation.
+/// `scratch` holds at least `2·spheres.len()` intervals.
+///
+/// # Errors
+/// A degenerate frame or a too-short `scratch` (the kernel's messages).
+pub fn sample(
+    spheres: &[Sphere<3>],
+    max_distance: f64,
+    frame: &Frame,
+    est: &AoEstimator,
+    u: f64,
+    v: f64,
+    scratch: &mut [(f64, f64)],
+) -> Result<f64, String> {
+    let hp = HalfPlane::at_azimuth(frame.point, frame.normal, frame.tangent, PI * u)
+        .map_err(|e| format!("shading frame: {e}"))?;
+    let vis = |t0: f64, len: f64, s: &mut [(f64, f64)]| {
+        hp.visible_wrapped(spheres, max_distance, t0, len, s)
+            .map_err(|e| e.to_string())
+    };
+    match est.primitive {
+        Primitive::Lines => vis(-FRAC_PI_2, PI, scratch),
+        Primitive::Points => {
+            let (t, pt) = centre_theta(est.pdf, v);
+            if pt <= 0.0 {
+                // The density vanishes only where g does (θ = 0 for the
+                // solid-angle and cosine densities): a measure-zero sample.
+                return Ok(0.0);
+            }
+            let g = t.sin().abs() * t.cos() / PI;
+            // V(φ, θ): visible iff θ lies in no sphere's occluded interval.
+            let visible = spheres.iter().all(|s| {
+                hp.occluded(s, max_distance)
+                    .pieces()
+                    .iter()
+                    .all(|&(lo, hi)| !(lo < t && t < hi))
+            });
+            Ok(if visible { g / (pt / PI) } else { 0.0 })
+        }
+        Primitive::Segments => {
+            let (t, pt) = centre_theta(est.pdf, v);
+            let len = est.length;
+            let m = vis(t - 0.5 * len, len, scratch)? / (PI * len);
+            if m == 0.0 {
+                return Ok(0.0);
+            }
+            Ok(m / (pt / PI))
+        }
+    }
+}
