@@ -100,6 +100,13 @@ pub fn centre_theta(pdf: CentrePdf, v: f64) -> (f64, f64) {
 /// The estimate of one sample `(u, v)`: see the module documentation.
 /// `scratch` holds at least `2·spheres.len()` intervals.
 ///
+/// Where the centre density is 0 (the solid-angle and cosine densities at
+/// `θ_c = 0`, the cosine density at `θ_c = ±π/2`) a point sample gives 0
+/// (its `g` is 0 there too) and a segment with visible weight gives `+∞`:
+/// a measure-zero event (`v` exactly `½`, `0` or `1`), but the cosine ×
+/// segment estimator's variance is infinite because of the neighbourhood of
+/// those points, and this is where it shows.
+///
 /// # Errors
 /// A degenerate frame or a too-short `scratch` (the kernel's messages).
 pub fn sample(
@@ -123,7 +130,7 @@ pub fn sample(
             let (t, pt) = centre_theta(est.pdf, v);
             if pt <= 0.0 {
                 // The density vanishes only where g does (θ = 0 for the
-                // solid-angle and cosine densities): a measure-zero sample.
+                // solid-angle and cosine densities, ±π/2 for the cosine one).
                 return Ok(0.0);
             }
             let g = t.sin().abs() * t.cos() / PI;
