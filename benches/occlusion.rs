@@ -13,30 +13,17 @@
 //! (lines) per second on one core.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use linesample::world::{HalfPlane, Sphere};
+use linesample::world::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
 
+#[path = "../tests/common/ao_scene.rs"]
+mod ao_scene;
+
 const N: usize = 4096;
 
-fn scene() -> Vec<Sphere<3>> {
-    [
-        ([0.75, 0.125, 7.0], 0.125),
-        ([1.25, 0.25, 6.0], 0.25),
-        ([1.75, 0.6, 4.0], 0.5),
-        ([1.0, 1.5, 0.0], 1.0),
-        ([-1.5, 2.5, -2.0], 1.25),
-        ([-4.5, 3.5, -2.5], 1.5),
-        ([0.0, 0.75, 4.0], 0.75),
-        ([0.0, -1000.0, 0.0], 1000.0),
-    ]
-    .iter()
-    .map(|&(c, r)| Sphere::new(c, r).unwrap())
-    .collect()
-}
-
 fn occlusion(c: &mut Criterion) {
-    let spheres = scene();
+    let spheres = ao_scene::spheres();
     // The ground point of pixel (410, 305), pushed onto the ground sphere.
     let p0 = [-0.940_f64, -0.008, 3.925];
     let d = [p0[0], p0[1] + 1000.0, p0[2]];

@@ -11,31 +11,12 @@
 
 mod common;
 
+use common::ao_scene;
 use common::{integrate, XorShift as Rng};
 use linesample::world::occlusion::{cosine_weight, visible_weight};
 use linesample::world::{HalfPlane, Ray, Sphere};
 use linesample::ParamError;
 use std::f64::consts::{FRAC_PI_2, PI};
-
-/// The paper's AO scene (Singh, Miller & Jarosz 2017, from their pbrt-v3
-/// scene): centres and radii, the last the ground.
-const SCENE: [([f64; 3], f64); 8] = [
-    ([0.75, 0.125, 7.0], 0.125),
-    ([1.25, 0.25, 6.0], 0.25),
-    ([1.75, 0.6, 4.0], 0.5),
-    ([1.0, 1.5, 0.0], 1.0),
-    ([-1.5, 2.5, -2.0], 1.25),
-    ([-4.5, 3.5, -2.5], 1.5),
-    ([0.0, 0.75, 4.0], 0.75),
-    ([0.0, -1000.0, 0.0], 1000.0),
-];
-
-fn scene() -> Vec<Sphere<3>> {
-    SCENE
-        .iter()
-        .map(|&(c, r)| Sphere::new(c, r).unwrap())
-        .collect()
-}
 
 /// Whether the ray `p + s·d`, `ε < s ≤ max`, meets a sphere's surface, by
 /// `Sphere::hit`. The usual ray-tracing `ε = 10⁻⁹(1 + |p|)` keeps a point on
@@ -110,7 +91,7 @@ fn point_on(rng: &mut Rng, s: &Sphere<3>) -> ([f64; 3], [f64; 3]) {
 
 #[test]
 fn occluded_angles_match_cast_rays() {
-    let spheres = scene();
+    let spheres = ao_scene::spheres();
     let mut rng = Rng(0x5eed_1234_abcd_ef01);
     let (mut checked, mut occluded) = (0usize, 0usize);
     for case in 0..300 {
@@ -132,6 +113,8 @@ fn occluded_angles_match_cast_rays() {
                 let inside = occ.pieces().iter().any(|&(a, b)| a < t && t < b);
                 let hit = cast(p, hp.direction(t), std::slice::from_ref(s), max);
                 assert_eq!(inside, hit, "case {case} θ {t} sphere {s:?} max {max}");
+                let sees = hp.sees(std::slice::from_ref(s), max, t);
+                assert_eq!(sees, !hit, "sees: case {case} θ {t} sphere {s:?} max {max}");
                 checked += 1;
                 occluded += usize::from(hit);
             }
@@ -143,7 +126,7 @@ fn occluded_angles_match_cast_rays() {
 
 #[test]
 fn visible_weight_matches_quadrature_in_the_ao_scene() {
-    let spheres = scene();
+    let spheres = ao_scene::spheres();
     let mut rng = Rng(0x0dd_ba11_cafe_f00d);
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     let mut worst = 0.0f64;
@@ -291,7 +274,7 @@ fn cosine_weight_is_the_integral() {
 /// they do not wrap.
 #[test]
 fn wrapped_segments() {
-    let spheres = scene();
+    let spheres = ao_scene::spheres();
     let mut rng = Rng(99);
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     for _ in 0..200 {

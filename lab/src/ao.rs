@@ -134,13 +134,7 @@ pub fn sample(
                 return Ok(0.0);
             }
             let g = t.sin().abs() * t.cos() / PI;
-            // V(φ, θ): visible iff θ lies in no sphere's occluded interval.
-            let visible = spheres.iter().all(|s| {
-                hp.occluded(s, max_distance)
-                    .pieces()
-                    .iter()
-                    .all(|&(lo, hi)| !(lo < t && t < hi))
-            });
+            let visible = hp.sees(spheres, max_distance, t);
             Ok(if visible { g / (pt / PI) } else { 0.0 })
         }
         Primitive::Segments => {

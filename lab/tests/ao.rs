@@ -25,6 +25,13 @@ fn frame_at(px: f64, py: f64) -> (Vec<linesample::world::Sphere<3>>, f64, Frame)
     (spheres, max_distance, Frame::new(h.point, h.normal))
 }
 
+/// The line estimator (the density and length do not apply to it).
+const LINE: AoEstimator = AoEstimator {
+    primitive: Primitive::Lines,
+    length: std::f64::consts::PI,
+    pdf: CentrePdf::Uniform,
+};
+
 /// `∫_0^1 f(v) dv` by the midpoint rule in `α` with `v = ½ ± ½ sin²α`
 /// (`dv = sin α cos α dα`, `α ∈ [0, π/2]`), `n` points per half: the
 /// substitution removes the `1/√|v − ½|` and `1/√(v(1 − v))` singularities
@@ -48,14 +55,9 @@ fn every_estimator_is_unbiased_in_theta() {
     for (px, py) in [(410.5, 305.5), (300.5, 290.5)] {
         let (spheres, max_d, frame) = frame_at(px, py);
         let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
-        let line = AoEstimator {
-            primitive: Primitive::Lines,
-            length: std::f64::consts::PI,
-            pdf: CentrePdf::Uniform,
-        };
         for k in 0..12 {
             let u = (k as f64 + 0.37) / 12.0;
-            let want = ao::sample(&spheres, max_d, &frame, &line, u, 0.5, &mut scratch).unwrap();
+            let want = ao::sample(&spheres, max_d, &frame, &LINE, u, 0.5, &mut scratch).unwrap();
             for pdf in [CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine] {
                 let mut cases = vec![(Primitive::Points, 0.0)];
                 for l in [0.1, 1.0, std::f64::consts::PI] {
@@ -128,17 +130,12 @@ fn every_estimator_and_sampler_averages_to_the_reference() {
     for (px, py) in [(410.5, 305.5), (300.5, 290.5)] {
         let (spheres, max_d, frame) = frame_at(px, py);
         let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
-        let line = AoEstimator {
-            primitive: Primitive::Lines,
-            length: std::f64::consts::PI,
-            pdf: CentrePdf::Uniform,
-        };
         let m = 1 << 16;
         let phis: Vec<f64> = (0..m)
             .map(|k| std::f64::consts::PI * (k as f64 + 0.5) / m as f64)
             .collect();
         let reference = scene::ao_lines(&spheres, max_d, frame.point, frame.normal, &phis).unwrap();
-        let mut ests = vec![line];
+        let mut ests = vec![LINE];
         for pdf in [CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine] {
             ests.push(AoEstimator {
                 primitive: Primitive::Points,

@@ -311,8 +311,19 @@ impl<const D: usize> Gaussian<D> {
     /// distance at least `d2` from it: `cap·e^{−d2/2σ²}` with slack for the
     /// rounding of `d2` and of `exp`.
     #[inline]
+    /// The exponential is the lane one (`≤ 4u`, inside the `10⁻⁶` slack) with
+    /// the exponent clamped at 700, which only raises the bound.
     fn image_bound(&self, d2: f64, cap: f64) -> f64 {
-        cap * libm::exp(-d2 * (1.0 - 1e-9) / self.two_s2.hi) * (1.0 + 1e-6)
+        let x = (d2 * (1.0 - 1e-9) / self.two_s2.hi).min(700.0);
+        cap * exp_neg_lane::<f64>(x) * (1.0 + 1e-6)
+    }
+
+    /// `x_cut` such that an image with `key·(1 − 10⁻⁹)/2σ² > x_cut` has
+    /// `n·image_bound(key) < 2⁻⁶⁰·sum` (by [`ln_upper`], an upper bound on
+    /// the logarithm of `n·cap·(1 + 10⁻⁶)/(2⁻⁶⁰·sum)`).
+    #[inline]
+    fn log_cut(n: usize, cap: f64, sum: f64) -> f64 {
+        ln_upper(n as f64 * cap * (1.0 + 1e-6) / (TWO_M60 * sum))
     }
 
     /// Periodised integral over the piece `c + q + tω`, `t ∈ [t0, t1]`, by
@@ -577,7 +588,7 @@ impl<const D: usize> Gaussian<D> {
         // The cut in log space, raised by 10⁻⁹ so that a candidate beyond it
         // fails the exact test with the lane exponential's rounding too.
         let x_cut = if sum1 > 0.0 && sum1.is_finite() {
-            ln_upper(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum1)) + 1e-9
+            Self::log_cut(n, bx.cap, sum1) + 1e-9
         } else {
             f64::INFINITY
         };
@@ -587,7 +598,9 @@ impl<const D: usize> Gaussian<D> {
             if kc * (1.0 - 1e-9) * inv2s2 > x_cut {
                 continue;
             }
-            // Stable insertion into the sorted prefix.
+            // Stable insertion into the sorted prefix (ties keep the walk
+            // order; `core` has no allocation-free stable sort, and the
+            // prefix holds a few images).
             let mut i = kept;
             while i > 0 && key[i - 1] > kc {
                 key[i] = key[i - 1];
@@ -600,15 +613,10 @@ impl<const D: usize> Gaussian<D> {
         }
         let mut sum = sum1;
         let mut i = 1;
-        // Near images, nearest first, in double-double. The bounds use the
-        // lane exponential (4u; the 10⁻⁶ slack of `image_bound` covers it),
-        // the exponent clamped at 700, which only raises a bound.
-        let bound_of = |d2: f64| {
-            exp_neg_lane::<f64>((d2 * (1.0 - 1e-9) * inv2s2).min(700.0)) * (bx.cap * (1.0 + 1e-6))
-        };
+        // Near images, nearest first, in double-double.
         while i < kept {
             if sum > 0.0 {
-                let bound = bound_of(key[i]);
+                let bound = self.image_bound(key[i], bx.cap);
                 if (n - i) as f64 * bound < TWO_M60 * sum {
                     return Some(sum);
                 }
@@ -637,7 +645,7 @@ impl<const D: usize> Gaussian<D> {
         // 2⁻⁶⁰·sum0 ⇐ key(1−10⁻⁹)/2σ² > x_stop for any x_stop ≥ the log of
         // n·cap·(1 + 10⁻⁶)/(2⁻⁶⁰·sum0), so `end` is never before the exact
         // rule's cut (the lanes apply the exact rule).
-        let x_stop = ln_upper(n as f64 * bx.cap * (1.0 + 1e-6) / (TWO_M60 * sum0));
+        let x_stop = Self::log_cut(n, bx.cap, sum0);
         let mut end = i;
         while end < kept && key[end] * (1.0 - 1e-9) * inv2s2 <= x_stop {
             end += 1;

@@ -273,6 +273,21 @@ impl HalfPlane {
         out
     }
 
+    /// `V(θ)`: whether the direction at angle `θ` escapes every sphere of
+    /// `spheres` within `max_dist`, i.e. `θ` lies inside no occluded interval
+    /// ([`HalfPlane::occluded`]; the intervals are open, so an angle exactly
+    /// at an interval's end counts as visible). A point sample's visibility;
+    /// nothing is allocated.
+    #[must_use]
+    pub fn sees(&self, spheres: &[Sphere<3>], max_dist: f64, theta: f64) -> bool {
+        spheres.iter().all(|s| {
+            self.occluded(s, max_dist)
+                .pieces()
+                .iter()
+                .all(|&(lo, hi)| !(lo < theta && theta < hi))
+        })
+    }
+
     /// The cosine-weighted visible measure `∫_{t0}^{t1} V(θ)|sin θ| cos θ dθ`
     /// of `[t0, t1] ⊆ [−π/2, π/2]` (clamped to it; `t0 ≥ t1` gives 0) among
     /// `spheres`, with `scratch` for the occluded intervals (at least

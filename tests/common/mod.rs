@@ -4,6 +4,8 @@
 //! and a Kolmogorov–Smirnov test of uniformity at the suite's p < 1e-6 level.
 #![allow(dead_code, clippy::excessive_precision)]
 
+pub mod ao_scene;
+
 /// Kronrod abscissae `x_k` (positive half; index 1, 3, 5 are the Gauss nodes).
 const XK: [f64; 8] = [
     0.991455371120812639206854697526329,
