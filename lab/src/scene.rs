@@ -34,7 +34,7 @@
 //! camera (`from = at`, `up` along the view), an unknown effect, primitive,
 //! pdf or sampler name, an empty list, or no sphere.
 
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
@@ -112,7 +112,8 @@ pub enum Effect {
 }
 
 /// The sample primitive of an estimator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub enum Primitive {
     /// Point samples of `(φ, θ)`.
     Points,
@@ -123,7 +124,8 @@ pub enum Primitive {
 }
 
 /// The density of the sample centres over the hemisphere.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
 pub enum CentrePdf {
     /// Uniform in `(φ, θ)`.
     Uniform,
@@ -134,7 +136,8 @@ pub enum CentrePdf {
 }
 
 /// The sample patterns of a scene's estimators.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
 pub enum SceneSampler {
     /// Independent uniform points.
     Random,
@@ -146,6 +149,57 @@ pub enum SceneSampler {
     Cmj,
     /// Owen-scrambled Sobol′.
     Sobol,
+}
+
+impl Primitive {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Primitive::Points => "points",
+            Primitive::Segments => "segments",
+            Primitive::Lines => "lines",
+        }
+    }
+}
+
+impl CentrePdf {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            CentrePdf::Uniform => "uniform",
+            CentrePdf::SolidAngle => "solid-angle",
+            CentrePdf::Cosine => "cosine",
+        }
+    }
+}
+
+impl SceneSampler {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneSampler::Random => "random",
+            SceneSampler::Jittered => "jittered",
+            SceneSampler::MultiJittered => "multi-jittered",
+            SceneSampler::Cmj => "cmj",
+            SceneSampler::Sobol => "sobol",
+        }
+    }
+
+    /// The lab's pattern for this sampler.
+    #[must_use]
+    pub fn pattern(self) -> crate::sampler::Sampler {
+        use crate::sampler::Sampler;
+        match self {
+            SceneSampler::Random => Sampler::Random,
+            SceneSampler::Jittered => Sampler::Jittered,
+            SceneSampler::MultiJittered => Sampler::MultiJittered,
+            SceneSampler::Cmj => Sampler::Cmj,
+            SceneSampler::Sobol => Sampler::Sobol,
+        }
+    }
 }
 
 /// The estimators a scene compares.

@@ -6,6 +6,7 @@ pub mod convergence;
 pub mod gallery;
 pub mod paper;
 pub mod patterns;
+pub mod scene;
 pub mod spectrum;
 
 use std::path::Path;
@@ -149,6 +150,8 @@ pub fn merge(a: &MergeArgs) -> Result<(), String> {
         spectrum::KIND => spectrum::merge(a, config),
         gallery::KIND => gallery::merge(a, config),
         paper::KIND => paper::merge(a, config),
+        scene::KIND => scene::merge(a, config),
+        scene::PIXEL_KIND => scene::merge_pixel(a, config),
         other => Err(format!(
             "{}: experiment '{other}' cannot be merged by this lab version",
             first.display()

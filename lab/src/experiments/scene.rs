@@ -1,0 +1,1427 @@
+//! `scene FILE`: a declarative scene's one effect (ambient occlusion here),
+//! estimated with points, segments and lines, as images (`scene FILE`) or as
+//! one pixel's convergence study (`scene FILE --pixel X,Y`).
+//!
+//! Both run through the [`crate::runner`] (resume, `--shard`, `merge`,
+//! progress). Every estimate is the closed-form visibility of
+//! [`linesample::world::HalfPlane`] through [`crate::ao::sample`]: no ray is
+//! traced except the camera ray that finds each pixel's shading point.
+//!
+//! **Images** (cells: blocks of rows). Per pixel: the reference (lines with
+//! 1D-jittered azimuths, `--reference-realisations` independent sets of
+//! `--reference-lines` lines: their mean, and its standard error from the
+//! spread of the sets); every estimator of the image set (the scene's
+//! primitives, segment lengths, with `--sampler` and `--pdf`) at each `N` of
+//! a ladder (1, 2, 4, … up to `4·--n`; squares for jittered), realisation 0,
+//! each timed; and the per-pixel variance of `--variance-realisations`
+//! realisations at `N = --n`. The equal-time images are the ladder's images
+//! whose measured time is closest (in ratio) to the lines' time at `--n`.
+//!
+//! **Pixel** (cells: the reference, then every estimator × sampler × `N`).
+//! Each row runs `--realisations` independent realisations (fixed chunks of
+//! 32 merged in order, so results do not depend on `--threads`) and records
+//! mean, bias z-score, variance with its standard error, and time per
+//! estimate; each estimator × sampler gets a fitted slope with its 95 %
+//! interval beside the rate theory gives, and the time to a 1 % relative
+//! RMSE read off the fit.
+//!
+//! Seeds: row `N` of sampler `s` uses `Seed::new(Seed::new(SEED).stream(N))`,
+//! realisation `r` its `.realization(r)` (pixel study); images add the pixel
+//! index `i = y·W + x` first: `.realization(i).realization(r)`. The
+//! reference uses `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1))` the same way.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use linesample::stats::RunningStats;
+use linesample::world::Sphere;
+use linesample::Seed;
+use serde::{Deserialize, Serialize};
+
+use crate::ao::{self, AoEstimator, Frame};
+use crate::cli::{MergeArgs, SceneArgs, ShiftMode};
+use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
+use crate::figures::image::{self, Color};
+use crate::figures::multi::{self, Line, Multi, Series};
+use crate::fit::fit_loglog;
+use crate::io::{self, buffer, table, FileGroup};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
+use crate::sampler::{self, DynPattern, PatternSpec};
+use crate::scene::{self, CentrePdf, Effect, Primitive, Scene, SceneSampler};
+
+/// The image experiment's name.
+pub const KIND: &str = "scene";
+/// The pixel study's name.
+pub const PIXEL_KIND: &str = "scene-pixel";
+
+/// Realisations per chunk of a pixel-study row.
+const CHUNK: u64 = 32;
+
+/// The `scene` output formats (its `--help`).
+pub const FORMATS: &str = concat!(
+    "\
+Images (OUT/): reference.png (the reference, grey = AO in [0, 1], sky blue),
+reference-se.png (its standard error, log grey 1e-5 black to 1e-2 white),
+equal-samples-<est>.png (realisation 0 at N = --n), equal-time-<est>.png (the
+ladder image closest in time to the lines at --n), variance-<est>.png (per-pixel
+variance over --variance-realisations, log grey 1e-7 to 1e-1), sheet.png (all of
+them: row 1 reference and equal samples, row 2 reference SE and equal time, row 3
+variance; columns in the order of images.csv), images.csv (per estimator and N:
+seconds, seconds per sample, mean squared error against the reference over the
+pixels that hit the scene, mean variance; the equal-samples and equal-time rows
+marked) and manifest.json.
+
+Pixel (--pixel X,Y): OUT/pixel-X-Y.json with {\"reference\": {\"value\", \"se\",
+\"method\"}, \"convergence\": [rows], \"slopes\": [fits]}, the same rows as
+OUT/pixel-X-Y.csv, slopes as OUT/pixel-X-Y-slopes.csv, and the curves as
+OUT/pixel-X-Y.svg (uniform centre density).
+
+Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
+`linesample-lab --help`). All files of a run are written as one group at the end.
+
+",
+    crate::files_note!()
+);
+
+/// One estimator of a scene: primitive, segment length (segments), centre
+/// density (points and segments) and sampler.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct EstimatorSpec {
+    pub primitive: Primitive,
+    /// Segment length in `θ` (segments; 0 otherwise).
+    pub length: f64,
+    pub pdf: CentrePdf,
+    pub sampler: SceneSampler,
+}
+
+impl EstimatorSpec {
+    /// The kernel-side estimator.
+    #[must_use]
+    pub fn ao(&self) -> AoEstimator {
+        AoEstimator {
+            primitive: self.primitive,
+            length: self.length,
+            pdf: self.pdf,
+        }
+    }
+
+    /// `points`, `segments-0.1`, `lines` (without sampler and density).
+    #[must_use]
+    pub fn stem(&self) -> String {
+        match self.primitive {
+            Primitive::Segments if (self.length - std::f64::consts::PI).abs() < 1e-12 => {
+                "segments-pi".into()
+            }
+            Primitive::Segments => format!("segments-{}", self.length),
+            p => p.name().into(),
+        }
+    }
+
+    /// `segments-0.1 uniform jittered` (lines have no density).
+    #[must_use]
+    pub fn label(&self) -> String {
+        match self.primitive {
+            Primitive::Lines => format!("lines {}", self.sampler.name()),
+            _ => format!(
+                "{} {} {}",
+                self.stem(),
+                self.pdf.name(),
+                self.sampler.name()
+            ),
+        }
+    }
+}
+
+/// The sample offsets of an estimator: `N` points of `[0, 1)²` for points and
+/// segments (`u` → azimuth, `v` → centre angle); `N` azimuth offsets for lines,
+/// from the sampler's 1D pattern (random, jittered, Sobol′), or the `u`
+/// coordinates of its 2D pattern (multi-jittered and CMJ, whose `u`
+/// projection is stratified into `N` strata: a 1D jittered pattern).
+pub struct Offsets {
+    two: Option<DynPattern<2>>,
+    one: Option<DynPattern<1>>,
+    n: usize,
+}
+
+impl Offsets {
+    /// The offsets of `spec` with `n` samples, toroidally shifted per
+    /// realisation when `shift`.
+    ///
+    /// # Errors
+    /// A sample count the sampler does not support.
+    pub fn new(spec: &EstimatorSpec, n: usize, shift: bool) -> Result<Self, String> {
+        let s = spec.sampler.pattern();
+        let one_d = spec.primitive == Primitive::Lines
+            && !matches!(
+                spec.sampler,
+                SceneSampler::MultiJittered | SceneSampler::Cmj
+            );
+        let err = |e: String| format!("{} with N = {n}: {e}", spec.label());
+        if one_d {
+            let b = sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift).map_err(err)?;
+            Ok(Offsets {
+                two: None,
+                one: Some(b.pattern),
+                n,
+            })
+        } else {
+            let b = sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift).map_err(err)?;
+            Ok(Offsets {
+                two: Some(b.pattern),
+                one: None,
+                n,
+            })
+        }
+    }
+
+    /// Writes realisation `seed`'s offsets to `out` (length `N`).
+    ///
+    /// # Errors
+    /// The pattern's error.
+    pub fn fill(&self, seed: Seed, out: &mut Vec<[f32; 2]>) -> Result<(), String> {
+        out.resize(self.n, [0.5, 0.5]);
+        if let Some(p) = &self.two {
+            p.fill(seed, out).map_err(|e| e.to_string())
+        } else if let Some(p) = &self.one {
+            let mut one = vec![[0.0f32; 1]; self.n];
+            p.fill(seed, &mut one).map_err(|e| e.to_string())?;
+            for (o, u) in out.iter_mut().zip(&one) {
+                *o = [u[0], 0.5];
+            }
+            Ok(())
+        } else {
+            Err("internal error: offsets without a pattern".into())
+        }
+    }
+}
+
+/// The shading geometry of one pixel.
+pub struct Pixel {
+    frame: Frame,
+}
+
+/// What every estimate needs: the scene's spheres and its effect.
+pub struct World {
+    spheres: Vec<Sphere<3>>,
+    max_distance: f64,
+    scene: Scene,
+}
+
+impl World {
+    /// The world of a checked scene, rendered at `width × height`.
+    ///
+    /// # Errors
+    /// A sphere the kernel refuses.
+    pub fn new(mut scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+        scene.camera.width = width;
+        scene.camera.height = height;
+        let spheres = scene.kernel_spheres()?;
+        let Effect::AmbientOcclusion { max_distance } = scene.effect;
+        Ok(World {
+            spheres,
+            max_distance,
+            scene,
+        })
+    }
+
+    /// The shading point of pixel `(x, y)` (camera ray through its centre),
+    /// or `None` where the ray leaves the scene.
+    #[must_use]
+    pub fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
+        let (o, d) = self
+            .scene
+            .camera
+            .ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let hit = Scene::first_hit(&self.spheres, o, d)?;
+        Some(Pixel {
+            frame: Frame::new(hit.point, hit.normal),
+        })
+    }
+
+    /// The estimate of `est` from the offsets `uv`.
+    ///
+    /// # Errors
+    /// A degenerate shading frame.
+    pub fn estimate(
+        &self,
+        px: &Pixel,
+        est: &AoEstimator,
+        uv: &[[f32; 2]],
+        scratch: &mut [(f64, f64)],
+    ) -> Result<f64, String> {
+        let mut sum = 0.0;
+        for p in uv {
+            sum += ao::sample(
+                &self.spheres,
+                self.max_distance,
+                &px.frame,
+                est,
+                f64::from(p[0]),
+                f64::from(p[1]),
+                scratch,
+            )?;
+        }
+        Ok(sum / uv.len() as f64)
+    }
+
+    fn scratch(&self) -> Vec<(f64, f64)> {
+        vec![(0.0, 0.0); 2 * self.spheres.len()]
+    }
+}
+
+/// The reference estimator: lines with 1D-jittered azimuths.
+const REFERENCE: EstimatorSpec = EstimatorSpec {
+    primitive: Primitive::Lines,
+    length: 0.0,
+    pdf: CentrePdf::Uniform,
+    sampler: SceneSampler::Jittered,
+};
+
+fn reference_seed(seed: u64) -> Seed {
+    Seed::new(Seed::new(seed).stream(u64::MAX))
+}
+
+fn row_seed(seed: u64, n: usize) -> Seed {
+    Seed::new(Seed::new(seed).stream(n as u64))
+}
+
+/// The scene file as read, so that a resumed run refuses a changed file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneSource {
+    pub path: String,
+    pub text: String,
+}
+
+impl SceneSource {
+    fn scene(&self) -> Result<Scene, String> {
+        scene::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    }
+}
+
+// ---------------------------------------------------------------- images
+
+/// The image run, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ImagesConfig {
+    pub source: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    pub shift: ShiftMode,
+    /// The equal-samples `N`.
+    pub n: usize,
+    /// The `N` of every rendered image (each estimator).
+    pub ladder: Vec<usize>,
+    /// The estimators of the images (one sampler and density).
+    pub estimators: Vec<EstimatorSpec>,
+    pub variance_realisations: u64,
+    pub reference_lines: usize,
+    pub reference_realisations: u64,
+    pub rows_per_cell: u32,
+}
+
+/// One block of rows.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ImagesCell {
+    /// Reference mean per pixel (NaN: sky).
+    pub reference: Vec<f32>,
+    /// Its standard error.
+    pub reference_se: Vec<f32>,
+    /// `images[e·L + l]`: estimator `e` at ladder `N_l`, per pixel.
+    pub images: Vec<Vec<f32>>,
+    /// Per-pixel variance of each estimator at `N = n`.
+    pub variance: Vec<Vec<f32>>,
+    /// Seconds spent on `images[e·L + l]`.
+    pub seconds: Vec<f64>,
+}
+
+/// The image experiment.
+pub struct Images {
+    config: ImagesConfig,
+    world: World,
+    cells: Vec<CellInfo>,
+}
+
+impl Images {
+    /// The experiment of `config`.
+    ///
+    /// # Errors
+    /// A scene that no longer parses or a sphere the kernel refuses.
+    pub fn new(config: ImagesConfig) -> Result<Self, String> {
+        let world = World::new(config.source.scene()?, config.width, config.height)?;
+        let rows = config.rows_per_cell.max(1);
+        let cells = (0..config.height.div_ceil(rows))
+            .map(|c| {
+                let y0 = c * rows;
+                let y1 = (y0 + rows).min(config.height);
+                CellInfo {
+                    label: format!("rows {y0}..{y1}"),
+                    work: u64::from((y1 - y0) * config.width),
+                }
+            })
+            .collect();
+        Ok(Images {
+            config,
+            world,
+            cells,
+        })
+    }
+}
+
+impl Experiment for Images {
+    type Config = ImagesConfig;
+    type Cell = ImagesCell;
+    const KIND: &'static str = KIND;
+    const UNIT: &'static str = "pixels";
+
+    fn config(&self) -> &ImagesConfig {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
+        let cfg = &self.config;
+        let rows = cfg.rows_per_cell.max(1);
+        let y0 = index as u32 * rows;
+        let y1 = (y0 + rows).min(cfg.height);
+        let shift = cfg.shift == ShiftMode::Random;
+        let count = ((y1 - y0) * cfg.width) as usize;
+        let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
+        let reference = Offsets::new(&REFERENCE, cfg.reference_lines, shift)?;
+        let mut offsets = Vec::with_capacity(ne * nl);
+        for e in &cfg.estimators {
+            for &n in &cfg.ladder {
+                offsets.push(Offsets::new(e, n, shift)?);
+            }
+        }
+        let at_n = cfg
+            .ladder
+            .iter()
+            .position(|&n| n == cfg.n)
+            .ok_or("internal error: --n is not on the ladder")?;
+        let nan = f32::NAN;
+        let mut cell = ImagesCell {
+            reference: buffer::filled(count, nan, "the reference image")?,
+            reference_se: buffer::filled(count, nan, "the reference SE image")?,
+            images: (0..ne * nl)
+                .map(|_| buffer::filled(count, nan, "an image"))
+                .collect::<Result<_, _>>()?,
+            variance: (0..ne)
+                .map(|_| buffer::filled(count, nan, "a variance image"))
+                .collect::<Result<_, _>>()?,
+            seconds: vec![0.0; ne * nl],
+        };
+        let mut scratch = self.world.scratch();
+        let mut uv = Vec::new();
+        let ref_seed = reference_seed(cfg.seed);
+        let est_ao: Vec<AoEstimator> = cfg.estimators.iter().map(EstimatorSpec::ao).collect();
+        for y in y0..y1 {
+            for x in 0..cfg.width {
+                let p = ((y - y0) * cfg.width + x) as usize;
+                let pix_index = u64::from(y) * u64::from(cfg.width) + u64::from(x);
+                let Some(px) = self.world.pixel(x, y) else {
+                    continue;
+                };
+                let mut rs = RunningStats::new();
+                let base = ref_seed.realization(pix_index);
+                for r in 0..cfg.reference_realisations {
+                    reference.fill(base.realization(r), &mut uv)?;
+                    rs.push(
+                        self.world
+                            .estimate(&px, &REFERENCE.ao(), &uv, &mut scratch)?,
+                    );
+                }
+                cell.reference[p] = rs.mean() as f32;
+                cell.reference_se[p] = rs.mean_std_error() as f32;
+                for (e, ao_e) in est_ao.iter().enumerate() {
+                    for (l, &n) in cfg.ladder.iter().enumerate() {
+                        let k = e * nl + l;
+                        let seed = row_seed(cfg.seed, n).realization(pix_index);
+                        let t = Instant::now();
+                        offsets[k].fill(seed.realization(0), &mut uv)?;
+                        let v = self.world.estimate(&px, ao_e, &uv, &mut scratch)?;
+                        cell.seconds[k] += t.elapsed().as_secs_f64();
+                        cell.images[k][p] = v as f32;
+                        if l == at_n {
+                            let mut vs = RunningStats::new();
+                            vs.push(v);
+                            for r in 1..cfg.variance_realisations {
+                                offsets[k].fill(seed.realization(r), &mut uv)?;
+                                vs.push(self.world.estimate(&px, ao_e, &uv, &mut scratch)?);
+                            }
+                            cell.variance[e][p] = vs.variance() as f32;
+                        }
+                    }
+                }
+            }
+            ctx.advance(u64::from(cfg.width));
+        }
+        Ok(cell)
+    }
+}
+
+/// The `N` ladder up to `max`: powers of two (squares for jittered, whose 2D
+/// pattern needs `m²` points).
+#[must_use]
+pub fn ladder(sampler: SceneSampler, max: usize) -> Vec<usize> {
+    if sampler == SceneSampler::Jittered {
+        (1..).map(|k| k * k).take_while(|&n| n <= max).collect()
+    } else {
+        (0..)
+            .map(|k| 1usize << k)
+            .take_while(|&n| n <= max)
+            .collect()
+    }
+}
+
+/// An `images.csv` row.
+#[derive(Serialize)]
+struct ImageRow {
+    estimator: String,
+    n: usize,
+    #[serde(serialize_with = "table::sci")]
+    seconds: f64,
+    #[serde(serialize_with = "table::sci")]
+    seconds_per_sample: f64,
+    #[serde(serialize_with = "table::sci")]
+    mse: f64,
+    #[serde(serialize_with = "table::sci")]
+    mean_variance: f64,
+    equal_samples: bool,
+    equal_time: bool,
+}
+
+fn ao_rgb(v: f32) -> [u8; 3] {
+    if v.is_nan() {
+        [96, 128, 176]
+    } else {
+        let g = (f64::from(v).clamp(0.0, 1.0) * 255.0).round() as u8;
+        [g, g, g]
+    }
+}
+
+fn log_rgb(v: f32, lo: f64, hi: f64) -> [u8; 3] {
+    if v.is_nan() {
+        [96, 128, 176]
+    } else {
+        let g = image::log_gray(f64::from(v).max(1e-300), lo, hi);
+        [g, g, g]
+    }
+}
+
+fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> Result<Vec<u8>, String> {
+    let flat: Vec<u8> = px.iter().flatten().copied().collect();
+    image::png(w, h, Color::Rgb, &flat)
+}
+
+/// Mean squared difference from the reference over the pixels that hit.
+fn mse(img: &[f32], reference: &[f32]) -> f64 {
+    let (mut s, mut c) = (0.0, 0usize);
+    for (a, r) in img.iter().zip(reference) {
+        if !r.is_nan() {
+            let d = f64::from(*a) - f64::from(*r);
+            s += d * d;
+            c += 1;
+        }
+    }
+    s / c.max(1) as f64
+}
+
+fn mean_finite(v: &[f32]) -> f64 {
+    let (mut s, mut c) = (0.0, 0usize);
+    for x in v.iter().filter(|x| x.is_finite()) {
+        s += f64::from(*x);
+        c += 1;
+    }
+    s / c.max(1) as f64
+}
+
+/// The equal-time ladder index per estimator: the image whose time is
+/// closest in ratio to `target` seconds.
+fn equal_time(seconds: &[f64], ne: usize, nl: usize, target: f64) -> Vec<usize> {
+    (0..ne)
+        .map(|e| {
+            (0..nl)
+                .min_by(|&a, &b| {
+                    let d = |l: usize| (seconds[e * nl + l] / target).ln().abs();
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap_or(0)
+        })
+        .collect()
+}
+
+/// Writes the images, `images.csv` and `manifest.json` as one group, and
+/// prints the table.
+///
+/// # Errors
+/// An encoding or I/O error.
+pub fn complete_images(
+    exp: &Images,
+    cells: Vec<ImagesCell>,
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let cfg = &exp.config;
+    let (w, h) = (cfg.width, cfg.height);
+    let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
+    let total = (w * h) as usize;
+    let mut reference = buffer::empty(total, "the reference image")?;
+    let mut reference_se = buffer::empty(total, "the reference SE image")?;
+    let mut images: Vec<Vec<f32>> = (0..ne * nl)
+        .map(|_| buffer::empty(total, "an image"))
+        .collect::<Result<_, _>>()?;
+    let mut variance: Vec<Vec<f32>> = (0..ne)
+        .map(|_| buffer::empty(total, "a variance image"))
+        .collect::<Result<_, _>>()?;
+    let mut seconds = vec![0.0; ne * nl];
+    for c in cells {
+        reference.extend_from_slice(&c.reference);
+        reference_se.extend_from_slice(&c.reference_se);
+        for (a, b) in images.iter_mut().zip(&c.images) {
+            a.extend_from_slice(b);
+        }
+        for (a, b) in variance.iter_mut().zip(&c.variance) {
+            a.extend_from_slice(b);
+        }
+        for (a, b) in seconds.iter_mut().zip(&c.seconds) {
+            *a += b;
+        }
+    }
+    let at_n = cfg.ladder.iter().position(|&n| n == cfg.n).unwrap_or(0);
+    let lines = cfg
+        .estimators
+        .iter()
+        .position(|e| e.primitive == Primitive::Lines);
+    let target = lines.map_or(seconds[at_n], |e| seconds[e * nl + at_n]);
+    let et = equal_time(&seconds, ne, nl, target);
+    let pixels_hit = reference.iter().filter(|r| !r.is_nan()).count();
+
+    let mut group = FileGroup::new();
+    let ao_img = |v: &[f32]| v.iter().map(|&x| ao_rgb(x)).collect::<Vec<_>>();
+    let var_img = |v: &[f32]| {
+        v.iter()
+            .map(|&x| log_rgb(x, -7.0, -1.0))
+            .collect::<Vec<_>>()
+    };
+    let se_img = |v: &[f32]| {
+        v.iter()
+            .map(|&x| log_rgb(x, -5.0, -2.0))
+            .collect::<Vec<_>>()
+    };
+    group.add_bytes(
+        dir.join("reference.png"),
+        &rgb_png(w, h, &ao_img(&reference))?,
+    )?;
+    group.add_bytes(
+        dir.join("reference-se.png"),
+        &rgb_png(w, h, &se_img(&reference_se))?,
+    )?;
+    // The sheet: columns reference + estimators; rows equal samples, equal
+    // time, variance.
+    let gap = 4u32;
+    let cols = ne as u32 + 1;
+    let (sw, sh) = (cols * w + (cols - 1) * gap, 3 * h + 2 * gap);
+    let mut sheet = vec![[255u8; 3]; (sw * sh) as usize];
+    let mut put = |col: u32, row: u32, px: &[[u8; 3]]| {
+        for y in 0..h {
+            let dst = ((row * (h + gap) + y) * sw + col * (w + gap)) as usize;
+            let src = (y * w) as usize;
+            sheet[dst..dst + w as usize].copy_from_slice(&px[src..src + w as usize]);
+        }
+    };
+    put(0, 0, &ao_img(&reference));
+    put(0, 1, &se_img(&reference_se));
+    let mut rows = Vec::new();
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{:<40} {:>5} {:>10} {:>12} {:>11} {:>11}  shown",
+        "estimator", "N", "seconds", "s/sample", "MSE", "mean Var"
+    );
+    for (e, spec) in cfg.estimators.iter().enumerate() {
+        let stem = spec.stem();
+        let eq = &images[e * nl + at_n];
+        let tm = &images[e * nl + et[e]];
+        group.add_bytes(
+            dir.join(format!("equal-samples-{stem}.png")),
+            &rgb_png(w, h, &ao_img(eq))?,
+        )?;
+        group.add_bytes(
+            dir.join(format!("equal-time-{stem}.png")),
+            &rgb_png(w, h, &ao_img(tm))?,
+        )?;
+        group.add_bytes(
+            dir.join(format!("variance-{stem}.png")),
+            &rgb_png(w, h, &var_img(&variance[e]))?,
+        )?;
+        let col = e as u32 + 1;
+        put(col, 0, &ao_img(eq));
+        put(col, 1, &ao_img(tm));
+        put(col, 2, &var_img(&variance[e]));
+        for (l, &n) in cfg.ladder.iter().enumerate() {
+            let k = e * nl + l;
+            let samples = (n * pixels_hit).max(1) as f64;
+            let row = ImageRow {
+                estimator: spec.label(),
+                n,
+                seconds: seconds[k],
+                seconds_per_sample: seconds[k] / samples,
+                mse: mse(&images[k], &reference),
+                mean_variance: if l == at_n {
+                    mean_finite(&variance[e])
+                } else {
+                    f64::NAN
+                },
+                equal_samples: l == at_n,
+                equal_time: l == et[e],
+            };
+            if row.equal_samples || row.equal_time {
+                let _ = writeln!(
+                    text,
+                    "{:<40} {:>5} {:>10.3e} {:>12.3e} {:>11.3e} {:>11}  {}",
+                    row.estimator,
+                    n,
+                    row.seconds,
+                    row.seconds_per_sample,
+                    row.mse,
+                    if row.mean_variance.is_nan() {
+                        String::new()
+                    } else {
+                        format!("{:.3e}", row.mean_variance)
+                    },
+                    match (row.equal_samples, row.equal_time) {
+                        (true, true) => "equal samples, equal time",
+                        (true, false) => "equal samples",
+                        _ => "equal time",
+                    }
+                );
+            }
+            rows.push(row);
+        }
+    }
+    group.add_bytes(dir.join("sheet.png"), &rgb_png(sw, sh, &sheet)?)?;
+    let ref_var = reference_se
+        .iter()
+        .filter(|s| s.is_finite())
+        .map(|&s| f64::from(s) * f64::from(s))
+        .sum::<f64>()
+        / pixels_hit.max(1) as f64;
+    let comments = vec![
+        format!(
+            "scene {} at {w}x{h}; {pixels_hit} pixels hit the scene; estimators use sampler {} \
+             and centre density {}",
+            cfg.source.path,
+            cfg.estimators[0].sampler.name(),
+            cfg.estimators[0].pdf.name()
+        ),
+        format!(
+            "reference: {} x {} jittered lines per pixel; mean squared SE {ref_var:.3e} \
+             (the floor under every MSE)",
+            cfg.reference_realisations, cfg.reference_lines
+        ),
+        "seconds: time of realisation 0 of each image (pattern fill and estimate) summed over \
+         the cells, each cell on one thread"
+            .into(),
+    ];
+    group.add_bytes(dir.join("images.csv"), &table::csv(&comments, &rows)?)?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push("manifest.json".into());
+    let manifest = OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files);
+    group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
+    group.commit()?;
+    if !quiet {
+        crate::out!("{}", text.trim_end());
+        crate::out!(
+            "reference: {} x {} jittered lines per pixel, mean squared SE {ref_var:.2e}",
+            cfg.reference_realisations,
+            cfg.reference_lines
+        );
+        crate::out!(
+            "wrote {} (and the images beside it)",
+            dir.join("images.csv").display()
+        );
+    }
+    Ok(())
+}
+
+fn reproduce_images(cfg: &ImagesConfig) -> String {
+    format!(
+        "linesample-lab scene {} --resolution {}x{} --n {} --sampler {} --pdf {} \
+         --variance-realisations {} --reference-lines {} --reference-realisations {} --seed {}{}",
+        cfg.source.path,
+        cfg.width,
+        cfg.height,
+        cfg.n,
+        cfg.estimators[0].sampler.name(),
+        cfg.estimators[0].pdf.name(),
+        cfg.variance_realisations,
+        cfg.reference_lines,
+        cfg.reference_realisations,
+        cfg.seed,
+        if cfg.shift == ShiftMode::None {
+            " --shift none"
+        } else {
+            ""
+        }
+    )
+}
+
+// ---------------------------------------------------------------- pixel
+
+/// The pixel study, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PixelConfig {
+    pub source: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    pub pixel: (u32, u32),
+    pub seed: u64,
+    pub shift: ShiftMode,
+    pub ns: Vec<usize>,
+    pub realisations: u64,
+    pub rows: Vec<EstimatorSpec>,
+    pub reference_lines: usize,
+    pub reference_realisations: u64,
+}
+
+/// One cell of the pixel study: running statistics (count and the four
+/// moment sums of [`RunningStats::parts`]) and seconds per estimate.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PixelCell {
+    pub count: u64,
+    pub moments: [f64; 4],
+    pub seconds_per_estimate: f64,
+}
+
+/// The pixel study.
+pub struct PixelStudy {
+    config: PixelConfig,
+    world: World,
+    px: Pixel,
+    cells: Vec<CellInfo>,
+}
+
+impl PixelStudy {
+    /// The study of `config`.
+    ///
+    /// # Errors
+    /// A scene that no longer parses, a pixel outside the image or one whose
+    /// camera ray misses the scene.
+    pub fn new(config: PixelConfig) -> Result<Self, String> {
+        let world = World::new(config.source.scene()?, config.width, config.height)?;
+        let (x, y) = config.pixel;
+        if x >= config.width || y >= config.height {
+            return Err(format!(
+                "--pixel {x},{y}: outside the {}x{} image",
+                config.width, config.height
+            ));
+        }
+        let px = world
+            .pixel(x, y)
+            .ok_or_else(|| format!("--pixel {x},{y}: the camera ray misses every sphere"))?;
+        let mut cells = vec![CellInfo {
+            label: "reference".into(),
+            work: config.reference_realisations,
+        }];
+        for r in &config.rows {
+            for &n in &config.ns {
+                cells.push(CellInfo {
+                    label: format!("{} N = {n}", r.label()),
+                    work: config.realisations,
+                });
+            }
+        }
+        Ok(PixelStudy {
+            config,
+            world,
+            px,
+            cells,
+        })
+    }
+
+    fn row_n(&self, index: usize) -> (EstimatorSpec, usize) {
+        let k = index - 1;
+        let nn = self.config.ns.len();
+        (self.config.rows[k / nn], self.config.ns[k % nn])
+    }
+
+    fn stats(
+        &self,
+        ctx: &Ctx<'_>,
+        spec: &EstimatorSpec,
+        n: usize,
+        realisations: u64,
+        seed: Seed,
+    ) -> Result<PixelCell, String> {
+        let offsets = Offsets::new(spec, n, self.config.shift == ShiftMode::Random)?;
+        let est = spec.ao();
+        let chunks = realisations.div_ceil(CHUNK) as usize;
+        let parts = ctx.map_ordered(chunks, |c| {
+            let mut rs = RunningStats::new();
+            let mut scratch = self.world.scratch();
+            let mut uv = Vec::new();
+            let r0 = c as u64 * CHUNK;
+            let r1 = (r0 + CHUNK).min(realisations);
+            let t = Instant::now();
+            for r in r0..r1 {
+                offsets.fill(seed.realization(r), &mut uv)?;
+                rs.push(self.world.estimate(&self.px, &est, &uv, &mut scratch)?);
+            }
+            let s = t.elapsed().as_secs_f64();
+            ctx.advance(r1 - r0);
+            Ok((rs, s))
+        })?;
+        let mut all = RunningStats::new();
+        let mut secs = 0.0;
+        for (rs, s) in &parts {
+            all.merge(rs);
+            secs += s;
+        }
+        let (count, moments) = all.parts();
+        Ok(PixelCell {
+            count,
+            moments,
+            seconds_per_estimate: secs / realisations.max(1) as f64,
+        })
+    }
+}
+
+impl Experiment for PixelStudy {
+    type Config = PixelConfig;
+    type Cell = PixelCell;
+    const KIND: &'static str = PIXEL_KIND;
+    const UNIT: &'static str = "realisations";
+    const PARALLEL_CELLS: bool = false;
+
+    fn config(&self) -> &PixelConfig {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+        let cfg = &self.config;
+        if index == 0 {
+            return self.stats(
+                ctx,
+                &REFERENCE,
+                cfg.reference_lines,
+                cfg.reference_realisations,
+                reference_seed(cfg.seed),
+            );
+        }
+        let (spec, n) = self.row_n(index);
+        self.stats(ctx, &spec, n, cfg.realisations, row_seed(cfg.seed, n))
+    }
+}
+
+/// The convergence rate theory gives for the AO integrand at a pixel (the
+/// rule of `docs/theory.md`, Convergence rates, and its AO section):
+/// `(slope, log power, note)`; slope NaN where the variance is infinite.
+///
+/// The integrand `g(φ, θ)` is discontinuous across sphere silhouettes (curved
+/// edges) and, on the torus the samples live on, across the seam `φ = 0`:
+/// `g(φ + π, θ) = g(φ, −θ)` (the same half-plane, traversed the other way),
+/// so `g` is not periodic in `φ` and the seam is a straight jump parallel to
+/// the segments. Segments shorter than `π` do not pre-filter it, so they keep
+/// the point rate of a straight edge, `N^−1.5` for jittered centres; the
+/// pre-filtering of the silhouettes lowers only the constant. A whole line
+/// (or a segment of length `π`) integrates `θ` out: `L(φ) = ∫ g dθ` is
+/// periodic in `φ`, continuous, with square-root kinks where a half-plane
+/// grazes a sphere, so `N` strata in `φ` give `N^−3 log N` and the `√N`
+/// strata of 2D jitter `N^−2`. A centre density that vanishes where the
+/// segment's mean does not (solid angle and cosine at `θ_c = 0`, cosine also at
+/// `±π/2`) makes the second moment diverge like `∫ dθ/|θ|`: infinite variance
+/// (its weight is about `ℓ²`, so it shows only for long segments).
+#[must_use]
+pub fn theory(spec: &EstimatorSpec) -> (f64, u32, String) {
+    use std::f64::consts::PI;
+    let one_d_strata = matches!(
+        spec.sampler,
+        SceneSampler::MultiJittered | SceneSampler::Cmj
+    );
+    let full = spec.primitive == Primitive::Lines
+        || (spec.primitive == Primitive::Segments && spec.length >= PI - 1e-12);
+    if spec.primitive == Primitive::Segments && spec.pdf != CentrePdf::Uniform {
+        return (
+            f64::NAN,
+            0,
+            format!(
+                "{} centre density x segment: p(theta_c) = 0 at the normal where the segment \
+                 mean is not: infinite variance (log-divergent; weight ~ l^2)",
+                spec.pdf.name()
+            ),
+        );
+    }
+    if spec.sampler == SceneSampler::Random {
+        return (-1.0, 0, "random: N^-1".into());
+    }
+    if full {
+        let lines_1d = spec.primitive == Primitive::Lines || one_d_strata;
+        return if lines_1d {
+            (
+                -3.0,
+                1,
+                "L(phi) periodic, C0 with square-root kinks; N strata in phi: N^-3 log N".into(),
+            )
+        } else if spec.sampler == SceneSampler::Jittered {
+            (
+                -2.0,
+                0,
+                "whole line as a segment, but 2D jitter has only sqrt(N) strata in phi: N^-2 \
+                 (stalls)"
+                    .into(),
+            )
+        } else {
+            (
+                -2.0,
+                0,
+                "whole line as a segment, 2D-stratified centres: N^-2".into(),
+            )
+        };
+    }
+    match spec.primitive {
+        Primitive::Points => (
+            -1.5,
+            0,
+            "2D discontinuous (silhouettes, seam): N^-1.5".into(),
+        ),
+        _ => (
+            -1.5,
+            0,
+            "the seam phi = 0 is a jump parallel to the segments (g(phi+pi, theta) = \
+             g(phi, -theta)), not pre-filtered: N^-1.5"
+                .into(),
+        ),
+    }
+}
+
+/// A convergence row of the pixel study.
+#[derive(Clone, Debug, Serialize)]
+pub struct PixelRow {
+    pub estimator: String,
+    pub primitive: Primitive,
+    pub length: f64,
+    pub pdf: CentrePdf,
+    pub sampler: SceneSampler,
+    pub n: usize,
+    pub realisations: u64,
+    pub mean: f64,
+    pub bias_z: f64,
+    pub variance: f64,
+    pub variance_se: f64,
+    pub seconds_per_estimate: f64,
+}
+
+/// A fitted slope of the pixel study.
+#[derive(Clone, Debug, Serialize)]
+pub struct SlopeRow {
+    pub estimator: String,
+    pub slope: f64,
+    pub ci95_low: f64,
+    pub ci95_high: f64,
+    pub theory: f64,
+    pub theory_log_power: u32,
+    pub theory_note: String,
+    /// Seconds per estimate to reach a relative RMSE of 1 %, from the fit
+    /// and the measured cost per sample at the largest `N`.
+    pub seconds_to_1pct: f64,
+    /// The fit's `χ²` per degree of freedom (large: the rows do not follow
+    /// one power law, e.g. a heavy-tailed estimator or a rate change).
+    pub fit_chi2_dof: f64,
+}
+
+/// The pixel study's JSON document.
+#[derive(Serialize)]
+struct PixelDoc<'a> {
+    pixel: (u32, u32),
+    shading_point: [f64; 3],
+    normal: [f64; 3],
+    reference: Reference,
+    convergence: &'a [PixelRow],
+    slopes: &'a [SlopeRow],
+}
+
+#[derive(Serialize)]
+struct Reference {
+    value: f64,
+    se: f64,
+    method: String,
+}
+
+/// Writes `pixel-X-Y.json`, `.csv`, `-slopes.csv`, `.svg` and the manifest
+/// as one group, and prints the tables.
+///
+/// # Errors
+/// An encoding or I/O error.
+pub fn complete_pixel(
+    exp: &PixelStudy,
+    cells: Vec<PixelCell>,
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let cfg = &exp.config;
+    let stats = |c: &PixelCell| {
+        RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
+    };
+    let ref_stats = stats(&cells[0])?;
+    let reference = Reference {
+        value: ref_stats.mean(),
+        se: ref_stats.mean_std_error(),
+        method: format!(
+            "{} realisations of {} lines with 1D-jittered azimuths (closed-form visibility)",
+            cfg.reference_realisations, cfg.reference_lines
+        ),
+    };
+    let mut rows = Vec::new();
+    for (i, c) in cells.iter().enumerate().skip(1) {
+        let (spec, n) = exp.row_n(i);
+        let s = stats(c)?;
+        let se = s.mean_std_error();
+        rows.push(PixelRow {
+            estimator: spec.label(),
+            primitive: spec.primitive,
+            length: spec.length,
+            pdf: spec.pdf,
+            sampler: spec.sampler,
+            n,
+            realisations: s.count(),
+            mean: s.mean(),
+            bias_z: (s.mean() - reference.value) / (se * se + reference.se * reference.se).sqrt(),
+            variance: s.variance(),
+            variance_se: s.variance_std_error(),
+            seconds_per_estimate: c.seconds_per_estimate,
+        });
+    }
+    let nn = cfg.ns.len();
+    let n_max = cfg.ns.iter().copied().max().unwrap_or(1);
+    let mut slopes = Vec::new();
+    let mut series = Vec::new();
+    for (k, spec) in cfg.rows.iter().enumerate() {
+        let rs = &rows[k * nn..(k + 1) * nn];
+        let data: Vec<(f64, f64, f64)> = rs
+            .iter()
+            .map(|r| (r.n as f64, r.variance, r.variance_se))
+            .collect();
+        let fit = fit_loglog(&data);
+        let (th, lp, note) = theory(spec);
+        let last = rs
+            .last()
+            .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
+        let seconds_to_1pct = fit.map_or(f64::NAN, |f| {
+            // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b).
+            let goal = (0.01 * reference.value).powi(2);
+            let n = ((goal.ln() - f.intercept) / f.slope).exp();
+            n.max(1.0) * last
+        });
+        if let Some(f) = fit {
+            slopes.push(SlopeRow {
+                estimator: spec.label(),
+                slope: f.slope,
+                ci95_low: f.slope - 1.96 * f.slope_se,
+                ci95_high: f.slope + 1.96 * f.slope_se,
+                theory: th,
+                theory_log_power: lp,
+                theory_note: note,
+                seconds_to_1pct,
+                fit_chi2_dof: f.chi2_dof,
+            });
+            if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
+                let (x0, x1) = (data[0].0, n_max as f64);
+                series.push(Series {
+                    label: spec.label(),
+                    points: data.clone(),
+                    fit: Some(Line {
+                        a: f.intercept,
+                        slope: f.slope,
+                        log_power: 0,
+                        x0,
+                        x1,
+                    }),
+                    ..Series::default()
+                });
+            }
+        }
+    }
+    let (x, y) = cfg.pixel;
+    let stem = format!("pixel-{x}-{y}");
+    let doc = PixelDoc {
+        pixel: cfg.pixel,
+        shading_point: exp.px.frame.point,
+        normal: exp.px.frame.normal,
+        reference,
+        convergence: &rows,
+        slopes: &slopes,
+    };
+    let mut group = FileGroup::new();
+    group.add_bytes(dir.join(format!("{stem}.json")), &io::json(&doc)?)?;
+    let comments = vec![format!(
+        "pixel ({x}, {y}) of {}; reference {:.6} +- {:.1e} ({})",
+        cfg.source.path, doc.reference.value, doc.reference.se, doc.reference.method
+    )];
+    group.add_bytes(
+        dir.join(format!("{stem}.csv")),
+        &table::csv(&comments, &rows)?,
+    )?;
+    group.add_bytes(
+        dir.join(format!("{stem}-slopes.csv")),
+        &table::csv(&comments, &slopes)?,
+    )?;
+    let title = format!("AO at pixel ({x}, {y}): variance against N");
+    let svg = multi::multi(&Multi {
+        title: &title,
+        subtitle: "uniform centre density; solid: fitted power law",
+        x_label: "N (samples per estimate)",
+        y_label: "variance",
+        series: &series,
+        log_x: true,
+    })?;
+    group.add_bytes(dir.join(format!("{stem}.svg")), svg.as_bytes())?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push(format!("{stem}-manifest.json"));
+    let manifest = OutputManifest::new(PIXEL_KIND, reproduce_pixel(cfg), cfg, info, files);
+    group.add_bytes(
+        dir.join(format!("{stem}-manifest.json")),
+        &io::json(&manifest)?,
+    )?;
+    group.commit()?;
+    if !quiet {
+        crate::out!(
+            "pixel ({x}, {y}): AO reference {:.6} ± {:.1e} ({})",
+            doc.reference.value,
+            doc.reference.se,
+            doc.reference.method
+        );
+        crate::out!(
+            "{:<42} {:>7} {:>18} {:>9}  {:>11} {:>10}  {}",
+            "estimator",
+            "slope",
+            "95 % interval",
+            "theory",
+            "Var(N_max)",
+            "s to 1 %",
+            "note"
+        );
+        for (k, s) in slopes.iter().enumerate() {
+            let var_max = rows[k * nn + nn - 1].variance;
+            crate::out!(
+                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:>11.3e} {:>10.2e}  {}",
+                s.estimator,
+                s.slope,
+                s.ci95_low,
+                s.ci95_high,
+                if s.theory.is_nan() {
+                    "-".to_string()
+                } else {
+                    format!(
+                        "{:.2}{}",
+                        s.theory,
+                        if s.theory_log_power > 0 { "+log" } else { "" }
+                    )
+                },
+                var_max,
+                s.seconds_to_1pct,
+                s.theory_note
+            );
+        }
+        crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
+    }
+    Ok(())
+}
+
+fn reproduce_pixel(cfg: &PixelConfig) -> String {
+    format!(
+        "linesample-lab scene {} --pixel {},{} --resolution {}x{} --pixel-n {} --realisations {} \
+         --reference-lines {} --reference-realisations {} --seed {}",
+        cfg.source.path,
+        cfg.pixel.0,
+        cfg.pixel.1,
+        cfg.width,
+        cfg.height,
+        cfg.ns
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(","),
+        cfg.realisations,
+        cfg.reference_lines,
+        cfg.reference_realisations,
+        cfg.seed
+    )
+}
+
+// ---------------------------------------------------------------- entry
+
+fn read_source(path: &Path) -> Result<(SceneSource, Scene), String> {
+    let scene = scene::load(path).map_err(|e| e.to_string())?;
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok((
+        SceneSource {
+            path: path.display().to_string(),
+            text,
+        },
+        scene,
+    ))
+}
+
+/// Every estimator row of a scene: its primitives × segment lengths ×
+/// densities × samplers (lines once per sampler: they have no density).
+#[must_use]
+pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
+    let est = &scene.estimators;
+    let mut rows = Vec::new();
+    for &sampler in &est.samplers {
+        for &primitive in &est.primitives {
+            match primitive {
+                Primitive::Lines => rows.push(EstimatorSpec {
+                    primitive,
+                    length: 0.0,
+                    pdf: CentrePdf::Uniform,
+                    sampler,
+                }),
+                Primitive::Points => {
+                    for &pdf in &est.pdfs {
+                        rows.push(EstimatorSpec {
+                            primitive,
+                            length: 0.0,
+                            pdf,
+                            sampler,
+                        });
+                    }
+                }
+                Primitive::Segments => {
+                    for &pdf in &est.pdfs {
+                        for &length in &est.segment_lengths {
+                            rows.push(EstimatorSpec {
+                                primitive,
+                                length,
+                                pdf,
+                                sampler,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+    }
+    rows
+}
+
+/// `linesample-lab scene`.
+///
+/// # Errors
+/// A scene file error (file, line, field), a bad option, or a run error.
+pub fn main(a: &SceneArgs) -> Result<(), String> {
+    let (source, scene) = read_source(&a.file)?;
+    let (width, height) = match a.resolution {
+        Some(r) => r,
+        None => (scene.camera.width, scene.camera.height),
+    };
+    let stem = a
+        .file
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    let out = a
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out/scene").join(stem));
+    let opts = a.run.options();
+    let shift = a.run.shift_or(ShiftMode::Random);
+    if let Some((x, y)) = a.pixel {
+        let mut rows = all_rows(&scene);
+        if let Some(samplers) = &a.samplers {
+            rows.retain(|r| samplers.contains(&r.sampler));
+        }
+        if rows.is_empty() {
+            return Err("--samplers: none of the scene's samplers is left".into());
+        }
+        let config = PixelConfig {
+            source: source.clone(),
+            width,
+            height,
+            pixel: (x, y),
+            seed: a.run.seed,
+            shift,
+            ns: a.pixel_n.clone(),
+            realisations: a.realisations,
+            rows,
+            reference_lines: a.reference_lines.unwrap_or(4096),
+            reference_realisations: a.reference_realisations.unwrap_or(64),
+        };
+        let exp = PixelStudy::new(config)?;
+        return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
+    }
+    let max = 4 * a.n;
+    let lad = ladder(a.sampler, max);
+    if !lad.contains(&a.n) {
+        return Err(format!(
+            "--n {}: {} needs {} (a ladder value)",
+            a.n,
+            a.sampler.name(),
+            if a.sampler == SceneSampler::Jittered {
+                "a square"
+            } else {
+                "a power of two"
+            }
+        ));
+    }
+    let mut estimators = Vec::new();
+    for &primitive in &scene.estimators.primitives {
+        let e = EstimatorSpec {
+            primitive,
+            length: 0.0,
+            pdf: a.pdf,
+            sampler: a.sampler,
+        };
+        if primitive == Primitive::Segments {
+            for &length in &scene.estimators.segment_lengths {
+                estimators.push(EstimatorSpec { length, ..e });
+            }
+        } else {
+            estimators.push(e);
+        }
+    }
+    let config = ImagesConfig {
+        source: source.clone(),
+        width,
+        height,
+        seed: a.run.seed,
+        shift,
+        n: a.n,
+        ladder: lad,
+        estimators,
+        variance_realisations: a.variance_realisations,
+        reference_lines: a.reference_lines.unwrap_or(64),
+        reference_realisations: a.reference_realisations.unwrap_or(16),
+        rows_per_cell: 8,
+    };
+    let exp = Images::new(config)?;
+    run_to_files(&exp, &out, &opts, Box::new(complete_images))
+}
+
+/// `linesample-lab merge` for scene image shards.
+///
+/// # Errors
+/// As [`crate::runner::merge`].
+pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = Images::new(config_from(config, KIND)?)?;
+    merge_to_files(&exp, a, Box::new(complete_images))
+}
+
+/// `linesample-lab merge` for pixel-study shards.
+///
+/// # Errors
+/// As [`crate::runner::merge`].
+pub fn merge_pixel(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
+    merge_to_files(&exp, a, Box::new(complete_pixel))
+}
