@@ -268,6 +268,11 @@ pub struct SceneArgs {
     #[arg(long, value_name = "R", visible_alias = "realizations", default_value_t = 1000, value_parser = clap::value_parser!(u64).range(4..))]
     pub realisations: u64,
 
+    /// --pixel: pattern realisations behind each expected periodogram of the
+    /// spectral variance prediction (0: no prediction, no integrand images).
+    #[arg(long, value_name = "R", default_value_t = 64)]
+    pub spectrum_realisations: u64,
+
     /// --pixel: only these samplers (comma-separated) of the scene's.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub samplers: Option<Vec<SceneSampler>>,

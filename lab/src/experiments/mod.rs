@@ -7,6 +7,7 @@ pub mod gallery;
 pub mod paper;
 pub mod patterns;
 pub mod scene;
+pub mod scene_theory;
 pub mod spectrum;
 
 use std::path::Path;

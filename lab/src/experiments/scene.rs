@@ -41,6 +41,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::ao::{self, AoEstimator, Frame};
 use crate::cli::{MergeArgs, SceneArgs, ShiftMode};
+use crate::experiments::scene_theory;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::image::{self, Color};
 use crate::figures::multi::{self, Line, Multi, Series};
@@ -54,6 +55,10 @@ use crate::scene::{self, CentrePdf, Effect, Primitive, Scene, SceneSampler};
 pub const KIND: &str = "scene";
 /// The pixel study's name.
 pub const PIXEL_KIND: &str = "scene-pixel";
+
+/// Mixed into the run seed for the prediction's pattern realisations (so
+/// they are independent of the measured ones).
+const SPECTRUM_PURPOSE: u64 = 0x5bec_7a1a;
 
 /// Realisations per chunk of a pixel-study row.
 const CHUNK: u64 = 32;
@@ -263,6 +268,35 @@ impl World {
             )?;
         }
         Ok(sum / uv.len() as f64)
+    }
+
+    /// One sample's estimate at `(u, v)` ([`ao::sample`]).
+    ///
+    /// # Errors
+    /// A degenerate shading frame.
+    pub fn sample(
+        &self,
+        px: &Pixel,
+        est: &AoEstimator,
+        u: f64,
+        v: f64,
+        scratch: &mut [(f64, f64)],
+    ) -> Result<f64, String> {
+        ao::sample(
+            &self.spheres,
+            self.max_distance,
+            &px.frame,
+            est,
+            u,
+            v,
+            scratch,
+        )
+    }
+
+    /// Number of spheres (scratch holds twice as many intervals).
+    #[must_use]
+    pub fn sphere_count(&self) -> usize {
+        self.spheres.len()
     }
 
     fn scratch(&self) -> Vec<(f64, f64)> {
@@ -788,15 +822,47 @@ pub struct PixelConfig {
     pub rows: Vec<EstimatorSpec>,
     pub reference_lines: usize,
     pub reference_realisations: u64,
+    /// Realisations behind each expected periodogram of the spectral
+    /// prediction (0: no prediction).
+    pub spectrum_realisations: u64,
 }
 
+/// Largest `N` of a 2D pattern whose variance is predicted: the frequency
+/// grid (half-width [`scene_theory::K2`]) must reach about `4√N`.
+pub const PREDICT_MAX_2D: usize = 1024;
+/// The `N` whose multi-jittered offset spectrum is drawn.
+pub const MJ_SPECTRUM_N: usize = 256;
+
 /// One cell of the pixel study: running statistics (count and the four
-/// moment sums of [`RunningStats::parts`]) and seconds per estimate.
+/// moment sums of [`RunningStats::parts`]) and seconds per estimate; a
+/// prediction cell holds the predicted variance of each row it serves and,
+/// for the drawn multi-jittered spectrum, the mean periodogram.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PixelCell {
     pub count: u64,
     pub moments: [f64; 4],
     pub seconds_per_estimate: f64,
+    /// `(row, predicted variance)`.
+    pub predictions: Vec<(usize, f64)>,
+    /// `⟨N·P⟩` on the half grid (the drawn spectrum only).
+    pub periodogram: Vec<f64>,
+}
+
+/// A prediction cell: one sampler's expected periodogram at one `N`, 2D
+/// (points and segments) or 1D (lines).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SpectrumJob {
+    sampler: SceneSampler,
+    lines: bool,
+    n: usize,
+}
+
+/// The spectral model of the pixel: the integrand's spectra and each
+/// predictable row's weights.
+struct Theory {
+    spectra: scene_theory::PixelSpectra,
+    /// Per row: `(weights, tail)` for uniform-density rows, else `None`.
+    weights: Vec<Option<(Vec<f64>, f64)>>,
 }
 
 /// The pixel study.
@@ -805,6 +871,8 @@ pub struct PixelStudy {
     world: World,
     px: Pixel,
     cells: Vec<CellInfo>,
+    jobs: Vec<SpectrumJob>,
+    theory: Option<Theory>,
 }
 
 impl PixelStudy {
@@ -837,11 +905,117 @@ impl PixelStudy {
                 });
             }
         }
+        let mut jobs = Vec::new();
+        let mut theory = None;
+        if config.spectrum_realisations > 0 {
+            let spectra = scene_theory::PixelSpectra::new(&world, &px)?;
+            let mut lines_w = None;
+            let weights = config
+                .rows
+                .iter()
+                .map(|r| match r.primitive {
+                    Primitive::Lines => {
+                        Some(lines_w.get_or_insert_with(|| spectra.weights_1d()).clone())
+                    }
+                    _ if r.pdf == CentrePdf::Uniform => {
+                        Some(spectra.weights_2d(r.primitive, r.length))
+                    }
+                    _ => None,
+                })
+                .collect();
+            for r in &config.rows {
+                if r.pdf != CentrePdf::Uniform && r.primitive != Primitive::Lines {
+                    continue;
+                }
+                let lines = r.primitive == Primitive::Lines;
+                for &n in &config.ns {
+                    let job = SpectrumJob {
+                        sampler: r.sampler,
+                        lines,
+                        n,
+                    };
+                    let fits = lines
+                        || n <= PREDICT_MAX_2D
+                        || (r.sampler == SceneSampler::MultiJittered && n == MJ_SPECTRUM_N);
+                    if fits && !jobs.contains(&job) {
+                        jobs.push(job);
+                    }
+                }
+            }
+            for j in &jobs {
+                cells.push(CellInfo {
+                    label: format!(
+                        "spectrum {} {} N = {}",
+                        j.sampler.name(),
+                        if j.lines { "1D" } else { "2D" },
+                        j.n
+                    ),
+                    work: config.spectrum_realisations,
+                });
+            }
+            theory = Some(Theory { spectra, weights });
+        }
         Ok(PixelStudy {
             config,
             world,
             px,
             cells,
+            jobs,
+            theory,
+        })
+    }
+
+    fn spectrum_cell(&self, job: SpectrumJob, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+        let cfg = &self.config;
+        let theory = self
+            .theory
+            .as_ref()
+            .ok_or("internal error: a spectrum cell without a theory")?;
+        let spec = EstimatorSpec {
+            primitive: if job.lines {
+                Primitive::Lines
+            } else {
+                Primitive::Points
+            },
+            length: 0.0,
+            pdf: CentrePdf::Uniform,
+            sampler: job.sampler,
+        };
+        let seed = Seed::new(Seed::new(cfg.seed ^ SPECTRUM_PURPOSE).stream(job.n as u64));
+        let chunks = cfg.spectrum_realisations.div_ceil(CHUNK) as usize;
+        let parts = ctx.map_ordered(chunks, |c| {
+            let r0 = c as u64 * CHUNK;
+            let r1 = (r0 + CHUNK).min(cfg.spectrum_realisations);
+            let np = scene_theory::mean_periodogram(&spec, job.n, r0..r1, seed)?;
+            ctx.advance(r1 - r0);
+            Ok((np, (r1 - r0) as f64))
+        })?;
+        let mut np = vec![0.0; parts.first().map_or(0, |p| p.0.len())];
+        for (p, w) in &parts {
+            for (a, b) in np.iter_mut().zip(p) {
+                *a += b * w;
+            }
+        }
+        for a in &mut np {
+            *a /= cfg.spectrum_realisations as f64;
+        }
+        let mut predictions = Vec::new();
+        for (k, r) in cfg.rows.iter().enumerate() {
+            let serves = r.sampler == job.sampler
+                && (r.primitive == Primitive::Lines) == job.lines
+                && (job.lines || job.n <= PREDICT_MAX_2D);
+            if let (true, Some((w, tail))) = (serves, &theory.weights[k]) {
+                predictions.push((k, scene_theory::predict(&np, w, *tail, job.n)));
+            }
+        }
+        let drawn =
+            !job.lines && job.sampler == SceneSampler::MultiJittered && job.n == MJ_SPECTRUM_N;
+        Ok(PixelCell {
+            count: 0,
+            moments: [0.0; 4],
+            seconds_per_estimate: 0.0,
+            predictions,
+            periodogram: if drawn { np } else { Vec::new() },
         })
     }
 
@@ -888,6 +1062,8 @@ impl PixelStudy {
             count,
             moments,
             seconds_per_estimate: secs / realisations.max(1) as f64,
+            predictions: Vec::new(),
+            periodogram: Vec::new(),
         })
     }
 }
@@ -917,6 +1093,10 @@ impl Experiment for PixelStudy {
                 cfg.reference_realisations,
                 reference_seed(cfg.seed),
             );
+        }
+        let measured = cfg.rows.len() * cfg.ns.len();
+        if index > measured {
+            return self.spectrum_cell(self.jobs[index - measured - 1], ctx);
         }
         let (spec, n) = self.row_n(index);
         self.stats(ctx, &spec, n, cfg.realisations, row_seed(cfg.seed, n))
@@ -1019,6 +1199,9 @@ pub struct PixelRow {
     pub variance: f64,
     pub variance_se: f64,
     pub seconds_per_estimate: f64,
+    /// The spectral prediction (uniform density; 2D patterns up to
+    /// [`PREDICT_MAX_2D`]), NaN where none.
+    pub predicted_variance: f64,
 }
 
 /// A fitted slope of the pixel study.
@@ -1082,8 +1265,22 @@ pub fn complete_pixel(
             cfg.reference_realisations, cfg.reference_lines
         ),
     };
+    let measured = cfg.rows.len() * cfg.ns.len();
+    let mut predicted = vec![f64::NAN; measured];
+    let mut mj_spectrum = None;
+    for (j, c) in cells.iter().enumerate().skip(measured + 1) {
+        let job = exp.jobs[j - measured - 1];
+        for &(k, v) in &c.predictions {
+            if let Some(i) = cfg.ns.iter().position(|&n| n == job.n) {
+                predicted[k * cfg.ns.len() + i] = v;
+            }
+        }
+        if !c.periodogram.is_empty() {
+            mj_spectrum = Some(&c.periodogram);
+        }
+    }
     let mut rows = Vec::new();
-    for (i, c) in cells.iter().enumerate().skip(1) {
+    for (i, c) in cells.iter().enumerate().take(measured + 1).skip(1) {
         let (spec, n) = exp.row_n(i);
         let s = stats(c)?;
         let se = s.mean_std_error();
@@ -1100,9 +1297,11 @@ pub fn complete_pixel(
             variance: s.variance(),
             variance_se: s.variance_std_error(),
             seconds_per_estimate: c.seconds_per_estimate,
+            predicted_variance: predicted[i - 1],
         });
     }
     let nn = cfg.ns.len();
+    let mut var_max = Vec::new();
     let n_max = cfg.ns.iter().copied().max().unwrap_or(1);
     let mut slopes = Vec::new();
     let mut series = Vec::new();
@@ -1135,11 +1334,17 @@ pub fn complete_pixel(
                 seconds_to_1pct,
                 fit_chi2_dof: f.chi2_dof,
             });
+            var_max.push(rs[nn - 1].variance);
             if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
                 let (x0, x1) = (data[0].0, n_max as f64);
                 series.push(Series {
                     label: spec.label(),
                     points: data.clone(),
+                    predicted: rs
+                        .iter()
+                        .filter(|r| r.predicted_variance.is_finite())
+                        .map(|r| (r.n as f64, r.predicted_variance))
+                        .collect(),
                     fit: Some(Line {
                         a: f.intercept,
                         slope: f.slope,
@@ -1179,13 +1384,16 @@ pub fn complete_pixel(
     let title = format!("AO at pixel ({x}, {y}): variance against N");
     let svg = multi::multi(&Multi {
         title: &title,
-        subtitle: "uniform centre density; solid: fitted power law",
+        subtitle: "uniform centre density; solid: fitted power law; hollow: spectral prediction",
         x_label: "N (samples per estimate)",
         y_label: "variance",
         series: &series,
         log_x: true,
     })?;
     group.add_bytes(dir.join(format!("{stem}.svg")), svg.as_bytes())?;
+    if let Some(t) = &exp.theory {
+        stage_theory_images(&mut group, dir, &stem, cfg, t, mj_spectrum)?;
+    }
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push(format!("{stem}-manifest.json"));
     let manifest = OutputManifest::new(PIXEL_KIND, reproduce_pixel(cfg), cfg, info, files);
@@ -1211,8 +1419,7 @@ pub fn complete_pixel(
             "s to 1 %",
             "note"
         );
-        for (k, s) in slopes.iter().enumerate() {
-            let var_max = rows[k * nn + nn - 1].variance;
+        for (s, &var_max) in slopes.iter().zip(&var_max) {
             crate::out!(
                 "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:>11.3e} {:>10.2e}  {}",
                 s.estimator,
@@ -1233,7 +1440,148 @@ pub fn complete_pixel(
                 s.theory_note
             );
         }
+        let preds: Vec<&PixelRow> = rows
+            .iter()
+            .filter(|r| r.predicted_variance.is_finite())
+            .collect();
+        if !preds.is_empty() {
+            crate::out!(
+                "spectral prediction (uniform density; {} pattern realisations per spectrum):",
+                cfg.spectrum_realisations
+            );
+            crate::out!(
+                "{:<42} {:>5} {:>11} {:>10} {:>11} {:>7}",
+                "estimator",
+                "N",
+                "measured",
+                "SE",
+                "predicted",
+                "ratio"
+            );
+            for r in preds {
+                crate::out!(
+                    "{:<42} {:>5} {:>11.3e} {:>10.2e} {:>11.3e} {:>7.3}",
+                    r.estimator,
+                    r.n,
+                    r.variance,
+                    r.variance_se,
+                    r.predicted_variance,
+                    r.predicted_variance / r.variance
+                );
+            }
+        }
         crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
+    }
+    Ok(())
+}
+
+/// `log10` of a positive value as a grey level in `[lo, hi]` decades, as RGB.
+fn log_px(v: f64, lo: f64, hi: f64) -> [u8; 3] {
+    let g = image::log_gray(v, lo, hi);
+    [g, g, g]
+}
+
+/// A half-grid spectrum of half-width `k` drawn on the full grid `[−k, k]²`
+/// (`j_u` across, `j_v` up), each cell `scale × scale` pixels.
+fn spectrum_png(half: &[f64], k: usize, scale: usize, lo: f64, hi: f64) -> Result<Vec<u8>, String> {
+    let grid = linesample::spectrum::Grid::<2>::new(k).map_err(|e| e.to_string())?;
+    let side = 2 * k + 1;
+    let mut px = vec![[0u8; 3]; side * side * scale * scale];
+    let ki = k as i32;
+    for row in 0..side {
+        for col in 0..side {
+            let j = [col as i32 - ki, ki - row as i32];
+            let v = grid.index(j).map_or(f64::NAN, |(i, _)| half[i]);
+            let c = log_px(v, lo, hi);
+            for dy in 0..scale {
+                let start = (row * scale + dy) * side * scale + col * scale;
+                px[start..start + scale].fill(c);
+            }
+        }
+    }
+    let w = (side * scale) as u32;
+    rgb_png(w, w, &px)
+}
+
+/// The pixel's integrand `f(u, v)` (and a filtered version) as an image:
+/// `u` (azimuth) across, `θ = +π/2` at the top; 2 × 2 grid cells per pixel,
+/// grey from 0 to the image's maximum.
+fn integrand_png(f: &[f64]) -> Result<Vec<u8>, String> {
+    use scene_theory::M;
+    let side = M / 2;
+    let max = f.iter().copied().fold(0.0f64, f64::max).max(1e-300);
+    let mut px = Vec::with_capacity(side * side);
+    for row in 0..side {
+        for col in 0..side {
+            let b = M - 2 - 2 * row;
+            let a = 2 * col;
+            let v = (f[a * M + b] + f[(a + 1) * M + b] + f[a * M + b + 1] + f[(a + 1) * M + b + 1])
+                / 4.0;
+            let g = (v / max * 255.0).round().clamp(0.0, 255.0) as u8;
+            px.push([g, g, g]);
+        }
+    }
+    rgb_png(side as u32, side as u32, &px)
+}
+
+/// The theory images of a pixel study: the integrand over `(u, v)` and its
+/// pre-filtered versions (each segment length, lines), their power spectra
+/// `|ĝ(j)|²`, and the multi-jittered offsets' `⟨N·P⟩`.
+fn stage_theory_images(
+    group: &mut FileGroup,
+    dir: &Path,
+    stem: &str,
+    cfg: &PixelConfig,
+    t: &Theory,
+    mj: Option<&Vec<f64>>,
+) -> Result<(), String> {
+    let sp = &t.spectra;
+    group.add_bytes(
+        dir.join(format!("{stem}-integrand.png")),
+        &integrand_png(&sp.f)?,
+    )?;
+    let mut lengths: Vec<f64> = Vec::new();
+    for r in &cfg.rows {
+        if r.primitive == Primitive::Segments && !lengths.contains(&r.length) {
+            lengths.push(r.length);
+        }
+    }
+    let k = scene_theory::K2;
+    let grid = linesample::spectrum::Grid::<2>::new(k).map_err(|e| e.to_string())?;
+    // |ĝ(j)|² without the half grid's multiplicity.
+    let power = |w: Vec<f64>| -> Vec<f64> {
+        w.iter()
+            .enumerate()
+            .map(|(i, x)| x / f64::from(grid.multiplicity(i)))
+            .collect()
+    };
+    let w = power(sp.weights_2d(Primitive::Points, 0.0).0);
+    group.add_bytes(
+        dir.join(format!("{stem}-integrand-spectrum.png")),
+        &spectrum_png(&w, k, 2, -12.0, -2.0)?,
+    )?;
+    for &l in &lengths {
+        let spec = EstimatorSpec {
+            primitive: Primitive::Segments,
+            length: l,
+            pdf: CentrePdf::Uniform,
+            sampler: SceneSampler::Random,
+        };
+        group.add_bytes(
+            dir.join(format!("{stem}-{}.png", spec.stem())),
+            &integrand_png(&sp.filtered(l))?,
+        )?;
+        let w = power(sp.weights_2d(Primitive::Segments, l).0);
+        group.add_bytes(
+            dir.join(format!("{stem}-{}-spectrum.png", spec.stem())),
+            &spectrum_png(&w, k, 2, -12.0, -2.0)?,
+        )?;
+    }
+    if let Some(np) = mj {
+        group.add_bytes(
+            dir.join(format!("{stem}-mj-offsets-spectrum.png")),
+            &spectrum_png(np, k, 2, -2.0, 0.5)?,
+        )?;
     }
     Ok(())
 }
@@ -1356,6 +1704,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             rows,
             reference_lines: a.reference_lines.unwrap_or(4096),
             reference_realisations: a.reference_realisations.unwrap_or(64),
+            spectrum_realisations: a.spectrum_realisations,
         };
         let exp = PixelStudy::new(config)?;
         return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
