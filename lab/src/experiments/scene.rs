@@ -1208,6 +1208,12 @@ pub struct PixelRow {
 #[derive(Clone, Debug, Serialize)]
 pub struct SlopeRow {
     pub estimator: String,
+    pub primitive: Primitive,
+    pub length: f64,
+    pub pdf: CentrePdf,
+    pub sampler: SceneSampler,
+    pub n_min: usize,
+    pub n_max: usize,
     pub slope: f64,
     pub ci95_low: f64,
     pub ci95_high: f64,
@@ -1325,6 +1331,12 @@ pub fn complete_pixel(
         if let Some(f) = fit {
             slopes.push(SlopeRow {
                 estimator: spec.label(),
+                primitive: spec.primitive,
+                length: spec.length,
+                pdf: spec.pdf,
+                sampler: spec.sampler,
+                n_min: cfg.ns.iter().copied().min().unwrap_or(0),
+                n_max,
                 slope: f.slope,
                 ci95_low: f.slope - 1.96 * f.slope_se,
                 ci95_high: f.slope + 1.96 * f.slope_se,
@@ -1773,4 +1785,122 @@ pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
 pub fn merge_pixel(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
     let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_pixel))
+}
+
+// ---------------------------------------------------------------- paper
+
+/// The paper's AO scene, built into the binary (so the report does not
+/// depend on the working directory).
+pub const AO_SCENE: &str = include_str!("../../../scenes/ao-spheres.toml");
+/// The name the built-in scene is reported under.
+pub const AO_SCENE_NAME: &str = "scenes/ao-spheres.toml";
+/// The pixels the paper's report studies (the authors' pixels).
+pub const PAPER_PIXELS: [(u32, u32); 2] = [(410, 305), (300, 290)];
+
+/// The AO scene runs of the `paper` report for `mode`: images at a
+/// mode-sized resolution and the two paper pixels' studies, into
+/// `dir` (each with its own state folder beside it: resume works as for
+/// every runner command). Returns the image resolution.
+///
+/// Sizes: reduced 48² images, pixels with N = 16, 64 (R = 40, spectra of 8
+/// realisations); quick 256² images, N = 16 … 1024 (R = 400, spectra 32);
+/// full 512², N = 16 … 4096 (R = 1000, spectra 64). Images: N = 16,
+/// multi-jittered, uniform centre density.
+///
+/// # Errors
+/// A run error.
+pub fn paper_runs(
+    mode: crate::experiments::paper::plan::Mode,
+    seed: u64,
+    dir: &Path,
+    opts: &crate::runner::RunOptions,
+) -> Result<u32, String> {
+    use crate::experiments::paper::plan::Mode;
+    let source = SceneSource {
+        path: AO_SCENE_NAME.into(),
+        text: AO_SCENE.into(),
+    };
+    let scene = source.scene()?;
+    let (res, ns, r, spec_r): (u32, Vec<usize>, u64, u64) = match mode {
+        Mode::Reduced => (48, vec![16, 64], 40, 8),
+        Mode::Quick => (256, vec![16, 64, 256, 1024], 400, 32),
+        Mode::Full => (512, vec![16, 64, 256, 1024, 4096], 1000, 64),
+    };
+    let n = 16;
+    let mut estimators = Vec::new();
+    for &primitive in &scene.estimators.primitives {
+        let e = EstimatorSpec {
+            primitive,
+            length: 0.0,
+            pdf: CentrePdf::Uniform,
+            sampler: SceneSampler::MultiJittered,
+        };
+        if primitive == Primitive::Segments {
+            for &length in &scene.estimators.segment_lengths {
+                estimators.push(EstimatorSpec { length, ..e });
+            }
+        } else {
+            estimators.push(e);
+        }
+    }
+    let images = Images::new(ImagesConfig {
+        source: source.clone(),
+        width: res,
+        height: res,
+        seed,
+        shift: ShiftMode::Random,
+        n,
+        ladder: ladder(SceneSampler::MultiJittered, 4 * n),
+        estimators,
+        variance_realisations: 8,
+        reference_lines: 64,
+        reference_realisations: 16,
+        rows_per_cell: 8,
+    })?;
+    let quiet = crate::runner::RunOptions {
+        quiet: true,
+        ..opts.clone()
+    };
+    if !opts.quiet {
+        crate::out!("AO scene: images at {res}x{res} and pixels {PAPER_PIXELS:?}");
+    }
+    run_to_files(
+        &images,
+        &dir.join("images"),
+        &quiet,
+        Box::new(complete_images),
+    )?;
+    let rows: Vec<EstimatorSpec> = all_rows(&scene)
+        .into_iter()
+        .filter(|r| {
+            matches!(
+                r.sampler,
+                SceneSampler::Jittered | SceneSampler::MultiJittered
+            ) || (r.pdf == CentrePdf::Uniform
+                && matches!(r.primitive, Primitive::Points | Primitive::Lines))
+        })
+        .collect();
+    for (x, y) in PAPER_PIXELS {
+        let study = PixelStudy::new(PixelConfig {
+            source: source.clone(),
+            width: scene.camera.width,
+            height: scene.camera.height,
+            pixel: (x, y),
+            seed,
+            shift: ShiftMode::Random,
+            ns: ns.clone(),
+            realisations: r,
+            rows: rows.clone(),
+            reference_lines: 4096,
+            reference_realisations: 64,
+            spectrum_realisations: spec_r,
+        })?;
+        run_to_files(
+            &study,
+            &dir.join(format!("pixel-{x}-{y}")),
+            &quiet,
+            Box::new(complete_pixel),
+        )?;
+    }
+    Ok(res)
 }

@@ -524,8 +524,13 @@ pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf), String> {
 /// A message naming the offending option, file or cell.
 pub fn main(a: &PaperArgs) -> Result<(), String> {
     let (config, out) = resolve(a)?;
-    let exp = Paper::new(config)?;
     let opts = a.run.options();
+    if opts.shard.is_none() {
+        // The AO scene section's runs (resumable on their own); a sharded
+        // paper run leaves them out (the report says how to add them).
+        crate::experiments::scene::paper_runs(config.mode, config.seed, &out.join("ao"), &opts)?;
+    }
+    let exp = Paper::new(config)?;
     run_to_files(
         &exp,
         &out,
