@@ -26,9 +26,10 @@
 //! The visible measures are the kernel's closed forms
 //! ([`linesample::world::HalfPlane::visible_wrapped`]).
 //!
-//! The cosine density with a long segment divides by `p_θ(θ_c)`, which is 0
-//! at the normal while the segment's mean is not: the estimate has infinite
-//! variance (the pitfall the scenes report shows).
+//! The solid-angle and cosine densities with a segment divide by
+//! `p_θ(θ_c)`, which is 0 at the normal while the segment's mean is not: the
+//! estimate has infinite (log-divergent) variance, visible for long segments
+//! (the pitfall the scene report shows).
 
 use linesample::world::{HalfPlane, Sphere};
 use std::f64::consts::{FRAC_PI_2, PI};
