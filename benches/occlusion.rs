@@ -9,10 +9,18 @@
 //! AO (printed, 0.7148) differs from the lab's exact hit point (0.714721) by
 //! about 1e−4.
 //!
+//! The second group is the line summand in `f32`
+//! (`world::occlusion_f32::AoPoint32`, prepared once for the point): the
+//! 8-lane SIMD batch, its scalar twin, and the `f64` path from the same
+//! azimuths (`HalfPlane::at_azimuth` + `visible`, so both include the
+//! per-azimuth frame); the max `|f32 − f64|` over the bench's lines is
+//! printed first.
+//!
 //! Run: `cargo bench --bench occlusion`; criterion's `thrpt` is half-planes
 //! (lines) per second on one core.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
+use linesample::world::occlusion_f32::AoPoint32;
 use linesample::world::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
@@ -95,6 +103,98 @@ fn occlusion(c: &mut Criterion) {
                         .unwrap()
                 })
                 .sum::<f64>()
+        })
+    });
+    g.finish();
+
+    // The f32 batch at the same point, azimuths rounded to f32; the f64
+    // reference at the same (widened) azimuths.
+    let tangent = [1.0, 0.0, 0.0];
+    let ao32 = AoPoint32::<8>::new(point, normal, tangent, &spheres, 500.0).unwrap();
+    let phis: Vec<f32> = (0..N)
+        .map(|k| (PI * (k as f64 + 0.5) / N as f64) as f32)
+        .collect();
+    let theta0s: Vec<f32> = (0..N)
+        .map(|k| (-FRAC_PI_2 + PI * ((k * 37) % N) as f64 / N as f64) as f32)
+        .collect();
+    let mut out = vec![0.0f32; N];
+    ao32.line_batch_f32(&phis, &mut out).unwrap();
+    let line64 = |phi: f32, scratch: &mut [(f64, f64)]| {
+        HalfPlane::at_azimuth(point, normal, tangent, f64::from(phi))
+            .unwrap()
+            .visible(&spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, scratch)
+            .unwrap()
+    };
+    let (mut worst, mut sum32) = (0.0f64, 0.0f64);
+    for (&phi, &v) in phis.iter().zip(&out) {
+        worst = worst.max((f64::from(v) - line64(phi, &mut scratch)).abs());
+        sum32 += f64::from(v);
+    }
+    let mut seg = vec![0.0f32; N];
+    ao32.segment_batch_f32(&phis, &theta0s, 1.0, &mut seg)
+        .unwrap();
+    let mut worst_seg = 0.0f64;
+    for k in 0..N {
+        let want = HalfPlane::at_azimuth(point, normal, tangent, f64::from(phis[k]))
+            .unwrap()
+            .visible_wrapped(&spheres, 500.0, f64::from(theta0s[k]), 1.0, &mut scratch)
+            .unwrap();
+        worst_seg = worst_seg.max((f64::from(seg[k]) - want).abs());
+    }
+    println!(
+        "f32 AO ({} of {} spheres kept): AO {:.6}, max |f32 − f64| over the {N} lines {worst:.2e}, \
+         over the {N} wrapped segments of length 1 {worst_seg:.2e}",
+        ao32.occluders(),
+        spheres.len(),
+        sum32 / N as f64
+    );
+
+    let mut g = c.benchmark_group("AO line summand (8 spheres), f32 vs f64");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function(
+        BenchmarkId::new("f32 SIMD batch (line_batch_f32)", N),
+        |b| {
+            b.iter(|| {
+                ao32.line_batch_f32(black_box(&phis), &mut out).unwrap();
+                out[N - 1]
+            })
+        },
+    );
+    g.bench_function(BenchmarkId::new("f32 scalar twin (line_f32)", N), |b| {
+        b.iter(|| {
+            black_box(&phis)
+                .iter()
+                .map(|&phi| ao32.line_f32(phi))
+                .sum::<f32>()
+        })
+    });
+    g.bench_function(BenchmarkId::new("f64 (at_azimuth + visible)", N), |b| {
+        b.iter(|| {
+            black_box(&phis)
+                .iter()
+                .map(|&phi| line64(phi, &mut scratch))
+                .sum::<f64>()
+        })
+    });
+    g.bench_function(
+        BenchmarkId::new("f32 SIMD batch, segment length 1, wrapped", N),
+        |b| {
+            b.iter(|| {
+                ao32.segment_batch_f32(black_box(&phis), &theta0s, 1.0, &mut seg)
+                    .unwrap();
+                seg[N - 1]
+            })
+        },
+    );
+    g.finish();
+
+    let mut g = c.benchmark_group("AO f32 set-up");
+    g.throughput(Throughput::Elements(1));
+    g.bench_function("AoPoint32::new (8 spheres)", |b| {
+        b.iter(|| {
+            AoPoint32::<8>::new(black_box(point), normal, tangent, &spheres, 500.0)
+                .unwrap()
+                .occluders()
         })
     });
     g.finish();

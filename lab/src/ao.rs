@@ -58,6 +58,9 @@ pub struct Frame {
     pub normal: [f64; 3],
     /// A direction not parallel to the normal (`φ = 0` is its projection).
     pub tangent: [f64; 3],
+    /// The half-plane at `φ = 0` ([`HalfPlane::new`]), from which every
+    /// azimuth's is [`HalfPlane::rotated`]; `None` for a degenerate normal.
+    pub base: Option<HalfPlane>,
 }
 
 impl Frame {
@@ -74,6 +77,7 @@ impl Frame {
             point,
             normal,
             tangent,
+            base: HalfPlane::new(point, normal, tangent).ok(),
         }
     }
 }
@@ -119,8 +123,10 @@ pub fn sample(
     v: f64,
     scratch: &mut [(f64, f64)],
 ) -> Result<f64, String> {
-    let hp = HalfPlane::at_azimuth(frame.point, frame.normal, frame.tangent, PI * u)
-        .map_err(|e| format!("shading frame: {e}"))?;
+    let hp = frame
+        .base
+        .ok_or("shading frame: the normal is zero or not finite")?
+        .rotated(PI * u);
     let vis = |t0: f64, len: f64, s: &mut [(f64, f64)]| {
         hp.visible_wrapped(spheres, max_distance, t0, len, s)
             .map_err(|e| e.to_string())

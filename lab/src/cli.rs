@@ -194,7 +194,8 @@ pub enum Command {
     /// Images (default): per pixel the reference (lines, 16 x 64 jittered
     /// azimuths unless --reference-realisations/--reference-lines say
     /// otherwise; its SE from the spread), every primitive of the scene (each
-    /// segment length) with --sampler and --pdf at N = 1, 2, 4, ..., 4*--n
+    /// segment length; lines also through the kernel's f32 SIMD batch) with
+    /// --sampler and --pdf at N = 1, 2, 4, ..., 4*--n
     /// (squares for jittered), timed, and the per-pixel variance at --n. The
     /// equal-time images are those whose time is closest to the lines' at
     /// --n. Cells: blocks of 8 rows.
@@ -221,7 +222,7 @@ pub struct SceneArgs {
     #[arg(value_name = "FILE")]
     pub file: PathBuf,
 
-    /// Output folder (default: out/scene/<file stem>).
+    /// Output folder (default: out/scene/FILE_STEM, the scene file name without its extension).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 

@@ -65,14 +65,15 @@ fn images_table_resume_and_threads() {
     let png = fs::read(a.join("reference.png")).unwrap();
     let be = |i: usize| u32::from_be_bytes(png[i..i + 4].try_into().unwrap());
     assert_eq!((be(16), be(20)), (20, 16));
-    // 6 estimators (points, 4 segment lengths, lines) x ladder 1, 2, 4, 8, 16.
+    // 7 estimators (points, 4 segment lengths, lines in f64 and in the f32
+    // SIMD batch) x ladder 1, 2, 4, 8, 16.
     let (_, header, rows) = csv_table(&a.join("images.csv"));
     assert_eq!(
         header.join(","),
         "estimator,n,seconds,seconds_per_sample,mse,mean_variance,equal_samples,equal_time"
     );
-    assert_eq!(rows.len(), 6 * 5);
-    for est in 0..6 {
+    assert_eq!(rows.len(), 7 * 5);
+    for est in 0..7 {
         let mine = &rows[est * 5..est * 5 + 5];
         assert_eq!(mine.iter().filter(|r| r[6] == "true").count(), 1);
         assert_eq!(mine.iter().filter(|r| r[7] == "true").count(), 1);
@@ -89,6 +90,14 @@ fn images_table_resume_and_threads() {
             .parse()
             .unwrap()
     };
+    // The f32 batch's lines are the f64 lines to f32 rounding.
+    let f32_lines: f64 = rows
+        .iter()
+        .find(|r| r[0].starts_with("lines f32") && r[1] == "16")
+        .unwrap()[4]
+        .parse()
+        .unwrap();
+    assert!((f32_lines - mse_at("lines multi")).abs() <= 1e-3 * mse_at("lines multi") + 1e-12);
     assert!(
         mse_at("lines") < 0.1 * mse_at("points"),
         "lines {} vs points {}",

@@ -164,7 +164,13 @@ macro_rules! scalar_lane {
     };
 }
 
-scalar_lane!(f32, libm::sqrtf, libm::fabsf, libm::floorf, libm::fmaf);
+scalar_lane!(
+    f32,
+    crate::num::scalar::sqrt32,
+    libm::fabsf,
+    libm::floorf,
+    libm::fmaf
+);
 scalar_lane!(
     f64,
     libm::sqrt,

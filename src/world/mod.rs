@@ -54,6 +54,7 @@
 
 pub mod gaussian;
 pub mod occlusion;
+pub mod occlusion_f32;
 pub mod plane;
 pub mod sphere;
 

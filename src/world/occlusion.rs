@@ -48,6 +48,10 @@
 //! large only for a point almost touching a sphere). The weights have a
 //! relative error of a few ulp. Tested against brute-force ray casting with
 //! [`super::Sphere::hit`] and adaptive quadrature (`tests/world_occlusion.rs`).
+//!
+//! The `f32` SIMD batch of the line and wrapped-segment measures over many
+//! azimuths at one shading point, with no transcendental per sphere and no
+//! sorting, is [`super::occlusion_f32::AoPoint32`] (tested against this path).
 
 use super::Sphere;
 use crate::error::ParamError;
@@ -273,19 +277,72 @@ impl HalfPlane {
         out
     }
 
-    /// `V(θ)`: whether the direction at angle `θ` escapes every sphere of
-    /// `spheres` within `max_dist`, i.e. `θ` lies inside no occluded interval
-    /// ([`HalfPlane::occluded`]; the intervals are open, so an angle exactly
-    /// at an interval's end counts as visible). A point sample's visibility;
-    /// nothing is allocated.
+    /// `V(θ)`: whether the ray `p + s·d(θ)`, `0 < s ≤ max_dist`, escapes
+    /// every sphere of `spheres`: a point sample's visibility, by the ray's
+    /// own quadratic (no angles, no interval). For `q = c − p`, `b = q·d` and
+    /// `c₂ = |q|² − R²` (formed as `(|q| − R)(|q| + R)`), the ray meets the
+    /// sphere's surface at `s = b ∓ √(b² − c₂)`: from outside (`c₂ > 0`) it
+    /// is blocked iff `b > 0`, `b² > c₂` (a tangent ray passes) and the near
+    /// root `c₂/(b + √(b² − c₂))` (no cancellation) is at most `max_dist`;
+    /// from inside (`c₂ < 0`) iff the exit `b + √(b² − c₂)` is at most
+    /// `max_dist`. A point on a sphere (`|c₂| ≤ 10⁻¹²R²`, as in
+    /// [`HalfPlane::occluded`]) is not blocked by it (its hemisphere lies
+    /// above the tangent plane). This is the same set as "`θ` in no occluded
+    /// interval of [`HalfPlane::occluded`]" up to directions within rounding
+    /// of an interval's end (tested). A `max_dist` that is not positive, or
+    /// NaN, blocks nothing. Nothing is allocated.
     #[must_use]
     pub fn sees(&self, spheres: &[Sphere<3>], max_dist: f64, theta: f64) -> bool {
-        spheres.iter().all(|s| {
-            self.occluded(s, max_dist)
-                .pieces()
-                .iter()
-                .all(|&(lo, hi)| !(lo < theta && theta < hi))
+        if max_dist.is_nan() || max_dist <= 0.0 {
+            return true;
+        }
+        let d = self.direction(theta);
+        spheres.iter().all(|sp| {
+            let c = sp.centre();
+            let big_r = sp.radius();
+            let q = [c[0] - self.p[0], c[1] - self.p[1], c[2] - self.p[2]];
+            let ql = crate::num::scalar::sqrt(dot(&q, &q));
+            let c2 = (ql - big_r) * (ql + big_r);
+            if c2.abs() <= 1e-12 * big_r * big_r {
+                return true;
+            }
+            let b = dot(&q, &d);
+            let disc = b * b - c2;
+            if disc <= 0.0 {
+                return true;
+            }
+            let root = crate::num::scalar::sqrt(disc);
+            let hit_at = if c2 > 0.0 {
+                if b <= 0.0 {
+                    return true;
+                }
+                c2 / (b + root)
+            } else {
+                b + root
+            };
+            hit_at > max_dist
         })
+    }
+
+    /// The half-plane at azimuth `phi` measured from this one, in the frame
+    /// `(a, b = n × a)`: `a' = cos φ·a + sin φ·b`, `b' = n × a' = cos φ·b −
+    /// sin φ·a`, with no normalisation (the new vectors are unit and
+    /// orthogonal to a few ulp). From the half-plane of
+    /// [`HalfPlane::new`]`(p, n, t)` this is [`HalfPlane::at_azimuth`]`(p, n,
+    /// t, φ)` up to rounding, at a fraction of its cost: a renderer builds
+    /// the base once per shading point. A non-finite `phi` gives NaN
+    /// directions (whose visible measures are then NaN).
+    #[must_use]
+    pub fn rotated(&self, phi: f64) -> Self {
+        let (s, c) = (libm::sin(phi), libm::cos(phi));
+        let a = core::array::from_fn(|j| c * self.a[j] + s * self.b[j]);
+        let b = core::array::from_fn(|j| c * self.b[j] - s * self.a[j]);
+        Self {
+            p: self.p,
+            n: self.n,
+            a,
+            b,
+        }
     }
 
     /// The cosine-weighted visible measure `∫_{t0}^{t1} V(θ)|sin θ| cos θ dθ`

@@ -35,6 +35,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
+use linesample::world::occlusion_f32::AoPoint32;
 use linesample::world::Sphere;
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
@@ -98,6 +99,11 @@ pub struct EstimatorSpec {
     pub length: f64,
     pub pdf: CentrePdf,
     pub sampler: SceneSampler,
+    /// Lines only: the kernel's `f32` SIMD batch
+    /// ([`linesample::world::occlusion_f32::AoPoint32::line_batch_f32`])
+    /// instead of the `f64` closed form.
+    #[serde(default)]
+    pub simd: bool,
 }
 
 impl EstimatorSpec {
@@ -119,6 +125,7 @@ impl EstimatorSpec {
                 "segments-pi".into()
             }
             Primitive::Segments => format!("segments-{}", self.length),
+            Primitive::Lines if self.simd => "lines-f32".into(),
             p => p.name().into(),
         }
     }
@@ -127,6 +134,7 @@ impl EstimatorSpec {
     #[must_use]
     pub fn label(&self) -> String {
         match self.primitive {
+            Primitive::Lines if self.simd => format!("lines f32-simd {}", self.sampler.name()),
             Primitive::Lines => format!("lines {}", self.sampler.name()),
             _ => format!(
                 "{} {} {}",
@@ -201,9 +209,15 @@ impl Offsets {
     }
 }
 
+/// Sphere capacity of the `f32` line batch's prepared shading point.
+pub const SIMD_SPHERES: usize = 32;
+
 /// The shading geometry of one pixel.
 pub struct Pixel {
     frame: Frame,
+    /// The `f32` batch's prepared point (`None` with more than
+    /// [`SIMD_SPHERES`] spheres that can occlude it).
+    ao32: Option<AoPoint32<SIMD_SPHERES>>,
 }
 
 /// What every estimate needs: the scene's spheres and its effect.
@@ -239,29 +253,57 @@ impl World {
             .camera
             .ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
         let hit = Scene::first_hit(&self.spheres, o, d)?;
-        Some(Pixel {
-            frame: Frame::new(hit.point, hit.normal),
-        })
+        let frame = Frame::new(hit.point, hit.normal);
+        let ao32 = AoPoint32::new(
+            frame.point,
+            frame.normal,
+            frame.tangent,
+            &self.spheres,
+            self.max_distance,
+        )
+        .ok();
+        Some(Pixel { frame, ao32 })
     }
 
-    /// The estimate of `est` from the offsets `uv`.
+    /// The estimate of `spec` from the offsets `uv`: the mean of its
+    /// samples ([`ao::sample`]), or for `f32` SIMD lines the mean of
+    /// `line_batch_f32` over `φ = πu` (summed in `f64`).
     ///
     /// # Errors
-    /// A degenerate shading frame.
+    /// A degenerate shading frame, or `f32` lines at a point with more than
+    /// [`SIMD_SPHERES`] occluding spheres.
     pub fn estimate(
         &self,
         px: &Pixel,
-        est: &AoEstimator,
+        spec: &EstimatorSpec,
         uv: &[[f32; 2]],
         scratch: &mut [(f64, f64)],
     ) -> Result<f64, String> {
+        if spec.simd && spec.primitive == Primitive::Lines {
+            let ao32 = px.ao32.as_ref().ok_or_else(|| {
+                format!("f32 lines: more than {SIMD_SPHERES} spheres can occlude this point")
+            })?;
+            let (mut phis, mut out) = ([0.0f32; 64], [0.0f32; 64]);
+            let mut sum = 0.0;
+            for chunk in uv.chunks(64) {
+                let k = chunk.len();
+                for (f, p) in phis.iter_mut().zip(chunk) {
+                    *f = std::f32::consts::PI * p[0];
+                }
+                ao32.line_batch_f32(&phis[..k], &mut out[..k])
+                    .map_err(|e| e.to_string())?;
+                sum += out[..k].iter().map(|&x| f64::from(x)).sum::<f64>();
+            }
+            return Ok(sum / uv.len() as f64);
+        }
+        let est = spec.ao();
         let mut sum = 0.0;
         for p in uv {
             sum += ao::sample(
                 &self.spheres,
                 self.max_distance,
                 &px.frame,
-                est,
+                &est,
                 f64::from(p[0]),
                 f64::from(p[1]),
                 scratch,
@@ -310,6 +352,7 @@ const REFERENCE: EstimatorSpec = EstimatorSpec {
     length: 0.0,
     pdf: CentrePdf::Uniform,
     sampler: SceneSampler::Jittered,
+    simd: false,
 };
 
 fn reference_seed(seed: u64) -> Seed {
@@ -452,7 +495,6 @@ impl Experiment for Images {
         let mut scratch = self.world.scratch();
         let mut uv = Vec::new();
         let ref_seed = reference_seed(cfg.seed);
-        let est_ao: Vec<AoEstimator> = cfg.estimators.iter().map(EstimatorSpec::ao).collect();
         for y in y0..y1 {
             for x in 0..cfg.width {
                 let p = ((y - y0) * cfg.width + x) as usize;
@@ -464,20 +506,17 @@ impl Experiment for Images {
                 let base = ref_seed.realization(pix_index);
                 for r in 0..cfg.reference_realisations {
                     reference.fill(base.realization(r), &mut uv)?;
-                    rs.push(
-                        self.world
-                            .estimate(&px, &REFERENCE.ao(), &uv, &mut scratch)?,
-                    );
+                    rs.push(self.world.estimate(&px, &REFERENCE, &uv, &mut scratch)?);
                 }
                 cell.reference[p] = rs.mean() as f32;
                 cell.reference_se[p] = rs.mean_std_error() as f32;
-                for (e, ao_e) in est_ao.iter().enumerate() {
+                for (e, spec_e) in cfg.estimators.iter().enumerate() {
                     for (l, &n) in cfg.ladder.iter().enumerate() {
                         let k = e * nl + l;
                         let seed = row_seed(cfg.seed, n).realization(pix_index);
                         let t = Instant::now();
                         offsets[k].fill(seed.realization(0), &mut uv)?;
-                        let v = self.world.estimate(&px, ao_e, &uv, &mut scratch)?;
+                        let v = self.world.estimate(&px, spec_e, &uv, &mut scratch)?;
                         cell.seconds[k] += t.elapsed().as_secs_f64();
                         cell.images[k][p] = v as f32;
                         if l == at_n {
@@ -485,7 +524,7 @@ impl Experiment for Images {
                             vs.push(v);
                             for r in 1..cfg.variance_realisations {
                                 offsets[k].fill(seed.realization(r), &mut uv)?;
-                                vs.push(self.world.estimate(&px, ao_e, &uv, &mut scratch)?);
+                                vs.push(self.world.estimate(&px, spec_e, &uv, &mut scratch)?);
                             }
                             cell.variance[e][p] = vs.variance() as f32;
                         }
@@ -980,6 +1019,7 @@ impl PixelStudy {
             length: 0.0,
             pdf: CentrePdf::Uniform,
             sampler: job.sampler,
+            simd: false,
         };
         let seed = Seed::new(Seed::new(cfg.seed ^ SPECTRUM_PURPOSE).stream(job.n as u64));
         let chunks = cfg.spectrum_realisations.div_ceil(CHUNK) as usize;
@@ -1034,7 +1074,6 @@ impl PixelStudy {
         seed: Seed,
     ) -> Result<PixelCell, String> {
         let offsets = Offsets::new(spec, n, self.config.shift == ShiftMode::Random)?;
-        let est = spec.ao();
         let chunks = realisations.div_ceil(CHUNK) as usize;
         let parts = ctx.map_ordered(chunks, |c| {
             let mut rs = RunningStats::new();
@@ -1045,7 +1084,7 @@ impl PixelStudy {
             let t = Instant::now();
             for r in r0..r1 {
                 offsets.fill(seed.realization(r), &mut uv)?;
-                rs.push(self.world.estimate(&self.px, &est, &uv, &mut scratch)?);
+                rs.push(self.world.estimate(&self.px, spec, &uv, &mut scratch)?);
             }
             let s = t.elapsed().as_secs_f64();
             ctx.advance(r1 - r0);
@@ -1578,6 +1617,7 @@ fn stage_theory_images(
             length: l,
             pdf: CentrePdf::Uniform,
             sampler: SceneSampler::Random,
+            simd: false,
         };
         group.add_bytes(
             dir.join(format!("{stem}-{}.png", spec.stem())),
@@ -1647,6 +1687,7 @@ pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
                     length: 0.0,
                     pdf: CentrePdf::Uniform,
                     sampler,
+                    simd: false,
                 }),
                 Primitive::Points => {
                     for &pdf in &est.pdfs {
@@ -1655,6 +1696,7 @@ pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
                             length: 0.0,
                             pdf,
                             sampler,
+                            simd: false,
                         });
                     }
                 }
@@ -1666,6 +1708,7 @@ pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
                                 length,
                                 pdf,
                                 sampler,
+                                simd: false,
                             });
                         }
                     }
@@ -1742,6 +1785,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             length: 0.0,
             pdf: a.pdf,
             sampler: a.sampler,
+            simd: false,
         };
         if primitive == Primitive::Segments {
             for &length in &scene.estimators.segment_lengths {
@@ -1749,6 +1793,11 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             }
         } else {
             estimators.push(e);
+        }
+        if primitive == Primitive::Lines {
+            // The same lines through the kernel's f32 SIMD batch: what
+            // accuracy costs in time.
+            estimators.push(EstimatorSpec { simd: true, ..e });
         }
     }
     let config = ImagesConfig {
@@ -1834,6 +1883,7 @@ pub fn paper_runs(
             length: 0.0,
             pdf: CentrePdf::Uniform,
             sampler: SceneSampler::MultiJittered,
+            simd: false,
         };
         if primitive == Primitive::Segments {
             for &length in &scene.estimators.segment_lengths {
@@ -1841,6 +1891,11 @@ pub fn paper_runs(
             }
         } else {
             estimators.push(e);
+        }
+        if primitive == Primitive::Lines {
+            // The same lines through the kernel's f32 SIMD batch: what
+            // accuracy costs in time.
+            estimators.push(EstimatorSpec { simd: true, ..e });
         }
     }
     let images = Images::new(ImagesConfig {

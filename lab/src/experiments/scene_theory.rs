@@ -94,6 +94,7 @@ impl PixelSpectra {
             length: 0.0,
             pdf: crate::scene::CentrePdf::Uniform,
             sampler: SceneSampler::Random,
+            simd: false,
         }
         .ao();
         let mut scratch = vec![(0.0, 0.0); 2 * world.sphere_count()];
@@ -123,6 +124,7 @@ impl PixelSpectra {
             length: 0.0,
             pdf: crate::scene::CentrePdf::Uniform,
             sampler: SceneSampler::Random,
+            simd: false,
         }
         .ao();
         let mut line = vec![0.0; M_LINE];
