@@ -176,6 +176,19 @@ fn occlusion(c: &mut Criterion) {
                 .sum::<f64>()
         })
     });
+    let base = HalfPlane::new(point, normal, tangent).unwrap();
+    g.bench_function(BenchmarkId::new("f64 (rotated + visible)", N), |b| {
+        b.iter(|| {
+            black_box(&phis)
+                .iter()
+                .map(|&phi| {
+                    base.rotated(f64::from(phi))
+                        .visible(&spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, &mut scratch)
+                        .unwrap()
+                })
+                .sum::<f64>()
+        })
+    });
     g.bench_function(
         BenchmarkId::new("f32 SIMD batch, segment length 1, wrapped", N),
         |b| {
@@ -186,6 +199,24 @@ fn occlusion(c: &mut Criterion) {
             })
         },
     );
+    g.finish();
+
+    // A point sample's visibility (one ray against every sphere, by its
+    // quadratic) at the same azimuths and angles: points per second.
+    let mut g = c.benchmark_group("AO point visibility (8 spheres, f64)");
+    g.throughput(Throughput::Elements(N as u64));
+    g.bench_function(BenchmarkId::new("rotated + sees", N), |b| {
+        b.iter(|| {
+            black_box(&phis)
+                .iter()
+                .zip(&theta0s)
+                .filter(|(&phi, &t)| {
+                    base.rotated(f64::from(phi))
+                        .sees(&spheres, 500.0, f64::from(t) + 0.5)
+                })
+                .count()
+        })
+    });
     g.finish();
 
     let mut g = c.benchmark_group("AO f32 set-up");
