@@ -1265,6 +1265,10 @@ pub struct SlopeRow {
     /// The fit's `χ²` per degree of freedom (large: the rows do not follow
     /// one power law, e.g. a heavy-tailed estimator or a rate change).
     pub fit_chi2_dof: f64,
+    /// The slope between the two largest `N`, `ln(V₂/V₁)/ln(N₂/N₁)`, and its
+    /// standard error `√((SE₁/V₁)² + (SE₂/V₂)²)/ln(N₂/N₁)` (delta method).
+    pub last_slope: f64,
+    pub last_slope_se: f64,
 }
 
 /// The pixel study's JSON document.
@@ -1367,6 +1371,18 @@ pub fn complete_pixel(
             let n = ((goal.ln() - f.intercept) / f.slope).exp();
             n.max(1.0) * last
         });
+        let (last_slope, last_slope_se) = if nn >= 2 {
+            let (a, b) = (&rs[nn - 2], &rs[nn - 1]);
+            let l = (b.n as f64 / a.n as f64).ln();
+            (
+                (b.variance / a.variance).ln() / l,
+                ((a.variance_se / a.variance).powi(2) + (b.variance_se / b.variance).powi(2))
+                    .sqrt()
+                    / l,
+            )
+        } else {
+            (f64::NAN, f64::NAN)
+        };
         if let Some(f) = fit {
             slopes.push(SlopeRow {
                 estimator: spec.label(),
@@ -1384,6 +1400,8 @@ pub fn complete_pixel(
                 theory_note: note,
                 seconds_to_1pct,
                 fit_chi2_dof: f.chi2_dof,
+                last_slope,
+                last_slope_se,
             });
             var_max.push(rs[nn - 1].variance);
             if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
