@@ -1737,6 +1737,35 @@ pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
     rows
 }
 
+/// The estimators of the images: the scene's primitives (segments once per
+/// length) with `pdf` and `sampler`, and the lines once more through the
+/// kernel's `f32` SIMD batch (what accuracy costs in time).
+fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec<EstimatorSpec> {
+    let mut estimators = Vec::new();
+    for &primitive in &scene.estimators.primitives {
+        let e = EstimatorSpec {
+            primitive,
+            length: 0.0,
+            pdf,
+            sampler,
+            simd: false,
+        };
+        match primitive {
+            Primitive::Segments => {
+                for &length in &scene.estimators.segment_lengths {
+                    estimators.push(EstimatorSpec { length, ..e });
+                }
+            }
+            Primitive::Lines => {
+                estimators.push(e);
+                estimators.push(EstimatorSpec { simd: true, ..e });
+            }
+            Primitive::Points => estimators.push(e),
+        }
+    }
+    estimators
+}
+
 /// `linesample-lab scene`.
 ///
 /// # Errors
@@ -1796,28 +1825,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             }
         ));
     }
-    let mut estimators = Vec::new();
-    for &primitive in &scene.estimators.primitives {
-        let e = EstimatorSpec {
-            primitive,
-            length: 0.0,
-            pdf: a.pdf,
-            sampler: a.sampler,
-            simd: false,
-        };
-        if primitive == Primitive::Segments {
-            for &length in &scene.estimators.segment_lengths {
-                estimators.push(EstimatorSpec { length, ..e });
-            }
-        } else {
-            estimators.push(e);
-        }
-        if primitive == Primitive::Lines {
-            // The same lines through the kernel's f32 SIMD batch: what
-            // accuracy costs in time.
-            estimators.push(EstimatorSpec { simd: true, ..e });
-        }
-    }
+    let estimators = image_estimators(&scene, a.pdf, a.sampler);
     let config = ImagesConfig {
         source: source.clone(),
         width,
@@ -1894,28 +1902,7 @@ pub fn paper_runs(
         Mode::Full => (512, vec![16, 64, 256, 1024, 4096], 1000, 64),
     };
     let n = 16;
-    let mut estimators = Vec::new();
-    for &primitive in &scene.estimators.primitives {
-        let e = EstimatorSpec {
-            primitive,
-            length: 0.0,
-            pdf: CentrePdf::Uniform,
-            sampler: SceneSampler::MultiJittered,
-            simd: false,
-        };
-        if primitive == Primitive::Segments {
-            for &length in &scene.estimators.segment_lengths {
-                estimators.push(EstimatorSpec { length, ..e });
-            }
-        } else {
-            estimators.push(e);
-        }
-        if primitive == Primitive::Lines {
-            // The same lines through the kernel's f32 SIMD batch: what
-            // accuracy costs in time.
-            estimators.push(EstimatorSpec { simd: true, ..e });
-        }
-    }
+    let estimators = image_estimators(&scene, CentrePdf::Uniform, SceneSampler::MultiJittered);
     let images = Images::new(ImagesConfig {
         source: source.clone(),
         width: res,

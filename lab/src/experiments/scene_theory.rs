@@ -256,45 +256,43 @@ pub fn mean_periodogram(
     realisations: std::ops::Range<u64>,
     seed: Seed,
 ) -> Result<Vec<f64>, String> {
-    let count = (realisations.end - realisations.start).max(1) as f64;
     let offsets = Offsets::new(spec, n, true)?;
-    let mut uv = Vec::new();
-    let nf = n as f64;
     if spec.primitive == Primitive::Lines {
-        let mut plan = Plan::<1>::new(K1, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
-        let len = plan.half_len();
-        let (mut re, mut im, mut acc) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
-        let mut pts = vec![[0.0f64; 1]; n];
-        for r in realisations.clone() {
-            offsets.fill(seed.realization(r), &mut uv)?;
-            for (p, q) in pts.iter_mut().zip(&uv) {
-                *p = [f64::from(q[0])];
-            }
-            plan.transform(&pts, &mut re, &mut im)
-                .map_err(|e| format!("NUFFT: {e}"))?;
-            for i in 0..len {
-                acc[i] += (re[i] * re[i] + im[i] * im[i]) / nf;
-            }
-        }
-        Ok(acc.iter().map(|a| a / count).collect())
+        mean_np::<1>(&offsets, K1, realisations, seed, |q| [f64::from(q[0])])
     } else {
-        let mut plan = Plan::<2>::new(K2, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
-        let len = plan.half_len();
-        let (mut re, mut im, mut acc) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
-        let mut pts = vec![[0.0f64; 2]; n];
-        for r in realisations.clone() {
-            offsets.fill(seed.realization(r), &mut uv)?;
-            for (p, q) in pts.iter_mut().zip(&uv) {
-                *p = [f64::from(q[0]), f64::from(q[1])];
-            }
-            plan.transform(&pts, &mut re, &mut im)
-                .map_err(|e| format!("NUFFT: {e}"))?;
-            for i in 0..len {
-                acc[i] += (re[i] * re[i] + im[i] * im[i]) / nf;
-            }
-        }
-        Ok(acc.iter().map(|a| a / count).collect())
+        mean_np::<2>(&offsets, K2, realisations, seed, |q| {
+            [f64::from(q[0]), f64::from(q[1])]
+        })
     }
+}
+
+/// The mean of `|F(j)|²/N` on the half grid of half-width `k` over the
+/// realisations, the offsets mapped to `D`-dimensional points by `point`.
+fn mean_np<const D: usize>(
+    offsets: &Offsets,
+    k: usize,
+    realisations: std::ops::Range<u64>,
+    seed: Seed,
+    point: impl Fn(&[f32; 2]) -> [f64; D],
+) -> Result<Vec<f64>, String> {
+    let count = (realisations.end - realisations.start).max(1) as f64;
+    let mut plan = Plan::<D>::new(k, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
+    let len = plan.half_len();
+    let (mut re, mut im, mut acc) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
+    let mut uv = Vec::new();
+    let mut pts = Vec::new();
+    for r in realisations {
+        offsets.fill(seed.realization(r), &mut uv)?;
+        pts.clear();
+        pts.extend(uv.iter().map(&point));
+        plan.transform(&pts, &mut re, &mut im)
+            .map_err(|e| format!("NUFFT: {e}"))?;
+        let nf = pts.len() as f64;
+        for i in 0..len {
+            acc[i] += (re[i] * re[i] + im[i] * im[i]) / nf;
+        }
+    }
+    Ok(acc.iter().map(|a| a / count).collect())
 }
 
 /// `Var = (1/N)(Σ_j ⟨N·P(j)⟩ w(j) + tail)`.
