@@ -52,6 +52,8 @@
 //!
 //! The derivations are in `docs/theory.md` (World-space closed forms).
 
+pub mod direct_light;
+pub mod direct_light_f32;
 pub mod gaussian;
 pub mod occlusion;
 pub mod occlusion_f32;
