@@ -181,26 +181,31 @@ pub enum Command {
     ///   linesample-lab merge --out runs/all runs/s{1..8}
     #[command(after_long_help = crate::files_note!())]
     Merge(MergeArgs),
-    /// Estimate a scene file's one effect (ambient occlusion) with points,
-    /// segments and lines: images, or one pixel's convergence study.
+    /// Estimate a scene file's one effect (ambient occlusion, or direct light
+    /// from an area light) with points, segments and lines: images, and
+    /// pixel convergence studies.
     ///
-    /// FILE is a TOML scene (e.g. scenes/ao-spheres.toml, the paper's AO
-    /// scene): camera, spheres, the effect and the estimators to compare; a
-    /// mistake in it is one error naming the file, line, column and field.
-    /// Only the effect is simulated: a camera ray per pixel finds the shading
-    /// point, and every estimate is the closed-form visibility of the spheres
-    /// in half-planes through the normal (no ray tracing, no bounces).
+    /// FILE is a TOML scene (scenes/ao-spheres.toml, the paper's AO scene;
+    /// scenes/cornell-box.toml, direct light in the Cornell box): camera,
+    /// geometry, the effect and the estimators to compare; a mistake in it is
+    /// one error naming the file, line, column and field. Only the effect is
+    /// simulated: a camera ray per pixel finds the shading point, and every
+    /// estimate is a closed form (no ray tracing, no bounces): for AO the
+    /// visibility of the spheres in half-planes through the normal; for
+    /// direct light the occluders' faces projected onto the light's plane
+    /// and the diffuse geometry term integrated along each line.
     ///
-    /// Images (default): per pixel the reference (lines, 16 x 64 jittered
+    /// AO images (default): per pixel the reference (lines, 16 x 64 jittered
     /// azimuths unless --reference-realisations/--reference-lines say
     /// otherwise; its SE from the spread), every primitive of the scene (each
     /// segment length; lines also through the kernel's f32 SIMD batch) with
-    /// --sampler and --pdf at N = 1, 2, 4, ..., 4*--n
+    /// --sampler (default multi-jittered) and --pdf at N = 1, 2, 4, ..., 4*--n
     /// (squares for jittered), timed, and the per-pixel variance at --n. The
     /// equal-time images are those whose time is closest to the lines' at
-    /// --n. Cells: blocks of 8 rows.
+    /// --n. Cells: blocks of 8 rows. Every realisation has its own random
+    /// toroidal shift (--shift none to turn it off).
     ///
-    /// --pixel X,Y (pbrt's convention: (0,0) is the top left pixel, the ray
+    /// AO --pixel X,Y (pbrt's convention: (0,0) is the top left pixel, the ray
     /// goes through the pixel centre): the reference (64 x 4096 jittered lines
     /// unless overridden) and, for every estimator of the scene (primitive,
     /// segment length, centre density, sampler; --samplers to restrict), the
@@ -208,9 +213,23 @@ pub enum Command {
     /// slope with its 95 % interval beside the rate theory gives, and the time
     /// to a 1 % relative error. Cells: the reference, then each row and N.
     ///
-    /// Every realisation has its own random toroidal shift (--shift none to
-    /// turn it off). Seeds: see the scene experiment's docs; results do not
-    /// depend on --threads.
+    /// Direct light: images of points on the light and lines across it with
+    /// each orientation of the scene (edge1, edge2, angle-<deg>,
+    /// random-per-point, random-per-line, stratified), with --sampler
+    /// (default jittered) at N = 1, 4, 16, ..., 16*--n (--n a power of 4),
+    /// the reference (4 x 256 jittered lines along edge 1 unless overridden),
+    /// variance images at --n and the map of which fixed orientation wins;
+    /// then pixels A and B (the largest variance ratio between the two fixed
+    /// orientations, each way, among penumbra pixels) and P1, P2 (a shadow
+    /// edge closest to parallel to each light edge) get a convergence study
+    /// (--pixel-n, --realisations, --samplers: default random and jittered)
+    /// into OUT/pixels/, and OUT/orientation.csv gets their slopes. --pixel
+    /// X,Y studies that one pixel instead. Jittered patterns are used
+    /// unshifted (a shift would misalign their strata with the light's
+    /// edges).
+    ///
+    /// Seeds: see the scene experiments' docs; results do not depend on
+    /// --threads.
     #[command(after_long_help = scene::FORMATS)]
     Scene(SceneArgs),
 }
@@ -240,9 +259,10 @@ pub struct SceneArgs {
     #[arg(long, value_name = "N", default_value_t = 16)]
     pub n: usize,
 
-    /// Images: the sampler of every estimator.
-    #[arg(long, value_enum, default_value_t = SceneSampler::MultiJittered)]
-    pub sampler: SceneSampler,
+    /// Images: the sampler of every estimator [default: multi-jittered for
+    /// ambient occlusion, jittered for direct light].
+    #[arg(long, value_enum)]
+    pub sampler: Option<SceneSampler>,
 
     /// Images: the centre density of points and segments.
     #[arg(long, value_enum, default_value_t = CentrePdf::Uniform)]

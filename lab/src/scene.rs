@@ -27,12 +27,47 @@
 //! samplers = ["random", "jittered", "multi-jittered", "cmj", "sobol"]
 //! ```
 //!
+//! A `direct-light` scene (`scenes/cornell-box.toml`) has walls, boxes and
+//! one rectangular light instead of spheres:
+//!
+//! ```toml
+//! [light]                       # emits towards edge1 × edge2
+//! corner = [-0.24, 1.98, -0.22]
+//! edge1 = [0.47, 0.0, 0.0]      # orthogonal edges
+//! edge2 = [0.0, 0.0, 0.38]
+//! radiance = [17.0, 12.0, 4.0]
+//!
+//! [[quad]]                      # corner + a·edge1 + b·edge2, a, b ∈ [0, 1]
+//! corner = [-1.0, 0.0, -1.0]
+//! edge1 = [0.0, 0.0, 2.0]
+//! edge2 = [2.0, 0.0, 0.0]
+//! albedo = [0.73, 0.73, 0.73]
+//!
+//! [[box]]                       # standing on its base, rotated about +y
+//! base = [-0.33, 0.0, 0.30]     # centre of the base
+//! size = [0.6, 0.6, 0.6]        # width, height, depth
+//! rotation = 17.0               # degrees
+//! albedo = [0.73, 0.73, 0.73]
+//!
+//! [effect]
+//! kind = "direct-light"
+//!
+//! [estimators]                  # optional; these are the defaults
+//! samplers = ["random", "jittered", "multi-jittered", "cmj", "sobol"]
+//! orientations = ["edge1", "edge2", "random-per-point", "random-per-line", "stratified"]
+//! ```
+//!
+//! (`angle-<degrees>` is a further orientation: lines at that angle from
+//! `edge1`.)
+//!
 //! Every mistake is an error naming the file, the line and column, and the
 //! field: a TOML syntax error, an unknown key, a missing field, a value of
 //! the wrong type, NaN or an infinite number anywhere, a radius, field of
-//! view, resolution, distance or segment length out of range, a degenerate
-//! camera (`from = at`, `up` along the view), an unknown effect, primitive,
-//! pdf or sampler name, an empty list, or no sphere.
+//! view, resolution, distance, segment length, albedo, radiance or box size
+//! out of range, a degenerate camera (`from = at`, `up` along the view), a
+//! degenerate quad or light (parallel or non-orthogonal edges), an unknown
+//! effect, primitive, pdf, sampler or orientation name, an empty list, no
+//! sphere (ambient occlusion) or no light (direct light).
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
@@ -100,6 +135,124 @@ pub struct SphereDef {
     pub radius: f64,
 }
 
+/// A parallelogram of the scene (a wall): `corner + a·edge1 + b·edge2`,
+/// `a, b ∈ [0, 1]`, diffuse with an RGB albedo.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct QuadDef {
+    /// The corner.
+    pub corner: [f64; 3],
+    /// First edge.
+    pub edge1: [f64; 3],
+    /// Second edge (not parallel to the first).
+    pub edge2: [f64; 3],
+    /// Diffuse albedo, each channel in `[0, 1]`.
+    pub albedo: [f64; 3],
+}
+
+/// A box standing on its base, rotated about the vertical `y` axis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxDef {
+    /// The centre of its base.
+    pub base: [f64; 3],
+    /// Width (x), height (y) and depth (z) before the rotation, positive.
+    pub size: [f64; 3],
+    /// Rotation about `+y`, degrees (counter-clockwise seen from above).
+    pub rotation_deg: f64,
+    /// Diffuse albedo, each channel in `[0, 1]`.
+    pub albedo: [f64; 3],
+}
+
+impl BoxDef {
+    /// The six faces as parallelograms with outward normals `edge1 × edge2`.
+    #[must_use]
+    pub fn faces(&self) -> [([f64; 3], [f64; 3], [f64; 3]); 6] {
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        // Rotation about +y: x' = c x + s z, z' = −s x + c z.
+        let ex = [c * self.size[0], 0.0, -s * self.size[0]];
+        let ey = [0.0, self.size[1], 0.0];
+        let ez = [s * self.size[2], 0.0, c * self.size[2]];
+        let o = [
+            self.base[0] - 0.5 * (ex[0] + ez[0]),
+            self.base[1],
+            self.base[2] - 0.5 * (ex[2] + ez[2]),
+        ];
+        let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        let (ox, oy, oz) = (add(o, ex), add(o, ey), add(o, ez));
+        [
+            (o, ex, ez),  // bottom: ex × ez = −y
+            (oy, ez, ex), // top: ez × ex = +y
+            (o, ey, ex),  // the z-min side: ey × ex = −z
+            (oz, ex, ey), // the z-max side: ex × ey = +z
+            (o, ez, ey),  // the x-min side: ez × ey = −x
+            (ox, ey, ez), // the x-max side: ey × ez = +x
+        ]
+    }
+}
+
+/// The scene's rectangular area light: corner, orthogonal edges, emitting
+/// towards `edge1 × edge2`, with an RGB radiance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LightDef {
+    /// The corner.
+    pub corner: [f64; 3],
+    /// First edge ("orientation 1" lines run along it).
+    pub edge1: [f64; 3],
+    /// Second edge, orthogonal to the first.
+    pub edge2: [f64; 3],
+    /// Emitted radiance, RGB, non-negative.
+    pub radiance: [f64; 3],
+}
+
+/// How the lines of a direct-light line estimator are oriented on the
+/// light (Billen & Dutré 2016; Singh, Miller & Jarosz 2017 §7.2).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Orientation {
+    /// Along the light's first edge (offsets along the second).
+    Edge1,
+    /// Along the light's second edge.
+    Edge2,
+    /// At a fixed angle from the first edge, degrees.
+    Angle(f64),
+    /// One uniformly random direction per estimate (per shading point).
+    RandomPerPoint,
+    /// An independent random direction per line.
+    RandomPerLine,
+    /// Directions and offsets from one 2D pattern: `(φ/π, offset)`.
+    Stratified,
+}
+
+impl Orientation {
+    /// The name a scene file uses (`edge1`, `angle-30`, …).
+    #[must_use]
+    pub fn name(self) -> String {
+        match self {
+            Orientation::Edge1 => "edge1".into(),
+            Orientation::Edge2 => "edge2".into(),
+            Orientation::Angle(a) => format!("angle-{a}"),
+            Orientation::RandomPerPoint => "random-per-point".into(),
+            Orientation::RandomPerLine => "random-per-line".into(),
+            Orientation::Stratified => "stratified".into(),
+        }
+    }
+
+    /// Parses a name (`angle-<degrees>` with a finite angle).
+    #[must_use]
+    pub fn parse(name: &str) -> Option<Orientation> {
+        match name {
+            "edge1" => Some(Orientation::Edge1),
+            "edge2" => Some(Orientation::Edge2),
+            "random-per-point" => Some(Orientation::RandomPerPoint),
+            "random-per-line" => Some(Orientation::RandomPerLine),
+            "stratified" => Some(Orientation::Stratified),
+            _ => {
+                let a: f64 = name.strip_prefix("angle-")?.parse().ok()?;
+                a.is_finite().then_some(Orientation::Angle(a))
+            }
+        }
+    }
+}
+
 /// The one effect a scene estimates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Effect {
@@ -109,6 +262,9 @@ pub enum Effect {
         /// Largest distance at which a sphere occludes.
         max_distance: f64,
     },
+    /// Direct light from the scene's one rectangular `[light]` onto diffuse
+    /// surfaces: no indirect bounces, no specular, no medium.
+    DirectLight,
 }
 
 /// The sample primitive of an estimator.
@@ -213,6 +369,8 @@ pub struct Estimators {
     pub pdfs: Vec<CentrePdf>,
     /// Samplers.
     pub samplers: Vec<SceneSampler>,
+    /// Line orientations (direct light).
+    pub orientations: Vec<Orientation>,
 }
 
 impl Default for Estimators {
@@ -228,6 +386,13 @@ impl Default for Estimators {
                 SceneSampler::Cmj,
                 SceneSampler::Sobol,
             ],
+            orientations: vec![
+                Orientation::Edge1,
+                Orientation::Edge2,
+                Orientation::RandomPerPoint,
+                Orientation::RandomPerLine,
+                Orientation::Stratified,
+            ],
         }
     }
 }
@@ -237,8 +402,14 @@ impl Default for Estimators {
 pub struct Scene {
     /// The camera.
     pub camera: Camera,
-    /// The spheres (at least one).
+    /// The spheres (at least one for ambient occlusion).
     pub spheres: Vec<SphereDef>,
+    /// Walls and other parallelograms.
+    pub quads: Vec<QuadDef>,
+    /// Boxes.
+    pub boxes: Vec<BoxDef>,
+    /// The area light (direct light needs it).
+    pub light: Option<LightDef>,
     /// The effect to estimate.
     pub effect: Effect,
     /// The estimators to compare.
@@ -251,6 +422,11 @@ struct RawScene {
     camera: Spanned<RawCamera>,
     #[serde(default)]
     sphere: Vec<Spanned<RawSphere>>,
+    #[serde(default)]
+    quad: Vec<Spanned<RawQuad>>,
+    #[serde(default, rename = "box")]
+    boxes: Vec<Spanned<RawBox>>,
+    light: Option<Spanned<RawLight>>,
     effect: Spanned<RawEffect>,
     estimators: Option<Spanned<RawEstimators>>,
 }
@@ -273,6 +449,33 @@ struct RawSphere {
 }
 
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawQuad {
+    corner: Spanned<[f64; 3]>,
+    edge1: Spanned<[f64; 3]>,
+    edge2: Spanned<[f64; 3]>,
+    albedo: Spanned<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBox {
+    base: Spanned<[f64; 3]>,
+    size: Spanned<[f64; 3]>,
+    rotation: Spanned<f64>,
+    albedo: Spanned<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLight {
+    corner: Spanned<[f64; 3]>,
+    edge1: Spanned<[f64; 3]>,
+    edge2: Spanned<[f64; 3]>,
+    radiance: Spanned<[f64; 3]>,
+}
+
+#[derive(Deserialize)]
 #[serde(deny_unknown_fields, rename_all = "kebab-case")]
 struct RawEffect {
     kind: Spanned<String>,
@@ -286,6 +489,7 @@ struct RawEstimators {
     segment_lengths: Option<Spanned<Vec<Spanned<f64>>>>,
     pdfs: Option<Spanned<Vec<Spanned<String>>>>,
     samplers: Option<Spanned<Vec<Spanned<String>>>>,
+    orientations: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
 /// Reads and checks a scene file.
@@ -364,9 +568,6 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
         height: h as u32,
     };
 
-    if raw.sphere.is_empty() {
-        return Err(ctx.at(0..0, "sphere", "the scene has no [[sphere]]".into()));
-    }
     let mut spheres = Vec::with_capacity(raw.sphere.len());
     for (i, s) in raw.sphere.iter().enumerate() {
         let s = s.get_ref();
@@ -381,6 +582,91 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
         }
         spheres.push(SphereDef { centre, radius });
     }
+
+    let mut quads = Vec::with_capacity(raw.quad.len());
+    for (i, q) in raw.quad.iter().enumerate() {
+        let q = q.get_ref();
+        let corner = ctx.finite3(&format!("quad[{i}].corner"), &q.corner)?;
+        let edge1 = ctx.finite3(&format!("quad[{i}].edge1"), &q.edge1)?;
+        let edge2 = ctx.finite3(&format!("quad[{i}].edge2"), &q.edge2)?;
+        if norm2(cross(edge1, edge2)) <= 1e-24 * norm2(edge1) * norm2(edge2)
+            || norm2(cross(edge1, edge2)) == 0.0
+        {
+            return Err(ctx.at(
+                q.edge2.span(),
+                &format!("quad[{i}].edge2"),
+                "is zero or parallel to edge1".into(),
+            ));
+        }
+        let albedo = ctx.albedo(&format!("quad[{i}].albedo"), &q.albedo)?;
+        quads.push(QuadDef {
+            corner,
+            edge1,
+            edge2,
+            albedo,
+        });
+    }
+    let mut boxes = Vec::with_capacity(raw.boxes.len());
+    for (i, b) in raw.boxes.iter().enumerate() {
+        let b = b.get_ref();
+        let base = ctx.finite3(&format!("box[{i}].base"), &b.base)?;
+        let size = ctx.finite3(&format!("box[{i}].size"), &b.size)?;
+        if size.iter().any(|&x| x <= 0.0) {
+            return Err(ctx.at(
+                b.size.span(),
+                &format!("box[{i}].size"),
+                format!("every side must be positive, got {size:?}"),
+            ));
+        }
+        let rotation_deg = ctx.finite(&format!("box[{i}].rotation"), &b.rotation)?;
+        let albedo = ctx.albedo(&format!("box[{i}].albedo"), &b.albedo)?;
+        boxes.push(BoxDef {
+            base,
+            size,
+            rotation_deg,
+            albedo,
+        });
+    }
+    let light = match &raw.light {
+        None => None,
+        Some(l) => {
+            let l = l.get_ref();
+            let corner = ctx.finite3("light.corner", &l.corner)?;
+            let edge1 = ctx.finite3("light.edge1", &l.edge1)?;
+            let edge2 = ctx.finite3("light.edge2", &l.edge2)?;
+            let (n1, n2) = (norm2(edge1).sqrt(), norm2(edge2).sqrt());
+            if n1 == 0.0 || n2 == 0.0 {
+                return Err(ctx.at(
+                    l.edge1.span(),
+                    "light.edge1",
+                    "the light's edges must be non-zero".into(),
+                ));
+            }
+            let cosine =
+                (edge1[0] * edge2[0] + edge1[1] * edge2[1] + edge1[2] * edge2[2]) / (n1 * n2);
+            if cosine.abs() > 1e-9 {
+                return Err(ctx.at(
+                    l.edge2.span(),
+                    "light.edge2",
+                    format!("must be orthogonal to light.edge1 (cosine {cosine:.3e})"),
+                ));
+            }
+            let radiance = ctx.finite3("light.radiance", &l.radiance)?;
+            if radiance.iter().any(|&x| x < 0.0) {
+                return Err(ctx.at(
+                    l.radiance.span(),
+                    "light.radiance",
+                    format!("must be non-negative, got {radiance:?}"),
+                ));
+            }
+            Some(LightDef {
+                corner,
+                edge1,
+                edge2,
+                radiance,
+            })
+        }
+    };
 
     let e = raw.effect.get_ref();
     let effect = match e.kind.get_ref().as_str() {
@@ -400,13 +686,42 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
                     format!("must be positive, got {d}"),
                 ));
             }
+            if raw.sphere.is_empty() {
+                return Err(ctx.at(0..0, "sphere", "the scene has no [[sphere]]".into()));
+            }
             Effect::AmbientOcclusion { max_distance: d }
+        }
+        "direct-light" => {
+            if let Some(md) = &e.max_distance {
+                return Err(ctx.at(
+                    md.span(),
+                    "effect.max-distance",
+                    "direct-light takes no max-distance".into(),
+                ));
+            }
+            if light.is_none() {
+                return Err(ctx.at(
+                    raw.effect.span(),
+                    "light",
+                    "direct-light needs a [light]".into(),
+                ));
+            }
+            if !raw.sphere.is_empty() {
+                return Err(ctx.at(
+                    raw.sphere[0].span(),
+                    "sphere",
+                    "direct-light scenes are made of [[quad]]s and [[box]]es (spheres are not \
+                     supported as occluders)"
+                        .into(),
+                ));
+            }
+            Effect::DirectLight
         }
         other => {
             return Err(ctx.at(
                 e.kind.span(),
                 "effect.kind",
-                format!("unknown effect '{other}' (known: ambient-occlusion)"),
+                format!("unknown effect '{other}' (known: ambient-occlusion, direct-light)"),
             ))
         }
     };
@@ -449,6 +764,27 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
                 ],
             )?;
         }
+        if let Some(o) = &est.orientations {
+            if o.get_ref().is_empty() {
+                return Err(ctx.at(o.span(), "estimators.orientations", "is empty".into()));
+            }
+            let mut v = Vec::new();
+            for (i, n) in o.get_ref().iter().enumerate() {
+                let Some(or) = Orientation::parse(n.get_ref()) else {
+                    return Err(ctx.at(
+                        n.span(),
+                        &format!("estimators.orientations[{i}]"),
+                        format!(
+                            "unknown orientation '{}' (known: edge1, edge2, angle-<degrees>, \
+                             random-per-point, random-per-line, stratified)",
+                            n.get_ref()
+                        ),
+                    ));
+                };
+                v.push(or);
+            }
+            estimators.orientations = v;
+        }
         if let Some(l) = &est.segment_lengths {
             if l.get_ref().is_empty() {
                 return Err(ctx.at(l.span(), "estimators.segment-lengths", "is empty".into()));
@@ -469,6 +805,9 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     Ok(Scene {
         camera,
         spheres,
+        quads,
+        boxes,
+        light,
         effect,
         estimators,
     })
@@ -600,7 +939,8 @@ pub fn ao_lines(
     Ok(sum / phis.len() as f64)
 }
 
-fn unit(a: [f64; 3]) -> [f64; 3] {
+/// `a/|a|`.
+pub(crate) fn unit(a: [f64; 3]) -> [f64; 3] {
     let l = norm2(a).sqrt();
     [a[0] / l, a[1] / l, a[2] / l]
 }
@@ -685,6 +1025,18 @@ impl Ctx<'_> {
         Ok(x)
     }
 
+    fn albedo(&self, field: &str, v: &Spanned<[f64; 3]>) -> Result<[f64; 3], SceneError> {
+        let x = self.finite3(field, v)?;
+        if x.iter().any(|c| !(0.0..=1.0).contains(c)) {
+            return Err(self.at(
+                v.span(),
+                field,
+                format!("every channel must be in [0, 1], got {x:?}"),
+            ));
+        }
+        Ok(x)
+    }
+
     fn names<T: Copy>(
         &self,
         field: &str,
@@ -714,11 +1066,18 @@ impl Ctx<'_> {
     }
 }
 
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+/// `a − b`.
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+/// `a·b`.
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// `a × b`.
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
         a[2] * b[0] - a[0] * b[2],
@@ -726,6 +1085,7 @@ fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
-fn norm2(a: [f64; 3]) -> f64 {
+/// `|a|²`.
+pub(crate) fn norm2(a: [f64; 3]) -> f64 {
     a[0] * a[0] + a[1] * a[1] + a[2] * a[2]
 }

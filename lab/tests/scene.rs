@@ -124,9 +124,9 @@ fn unknown_key() {
 #[test]
 fn unknown_table() {
     fails(
-        &(GOOD.to_string() + "[light]\npower = 1.0\n"),
+        &(GOOD.to_string() + "[fog]\ndensity = 1.0\n"),
         19,
-        "light",
+        "fog",
         &["unknown field"],
     );
 }

@@ -3,6 +3,7 @@
 //! separate functions that read those results.
 
 pub mod convergence;
+pub mod direct;
 pub mod gallery;
 pub mod paper;
 pub mod patterns;
@@ -153,6 +154,8 @@ pub fn merge(a: &MergeArgs) -> Result<(), String> {
         paper::KIND => paper::merge(a, config),
         scene::KIND => scene::merge(a, config),
         scene::PIXEL_KIND => scene::merge_pixel(a, config),
+        direct::KIND => direct::merge(a, config),
+        direct::PIXEL_KIND => direct::merge_pixel(a, config),
         other => Err(format!(
             "{}: experiment '{other}' cannot be merged by this lab version",
             first.display()

@@ -236,7 +236,9 @@ impl World {
         scene.camera.width = width;
         scene.camera.height = height;
         let spheres = scene.kernel_spheres()?;
-        let Effect::AmbientOcclusion { max_distance } = scene.effect;
+        let Effect::AmbientOcclusion { max_distance } = scene.effect else {
+            return Err("not an ambient-occlusion scene".into());
+        };
         Ok(World {
             spheres,
             max_distance,
@@ -371,7 +373,11 @@ pub struct SceneSource {
 }
 
 impl SceneSource {
-    fn scene(&self) -> Result<Scene, String> {
+    /// The checked scene.
+    ///
+    /// # Errors
+    /// The scene file's error.
+    pub fn scene(&self) -> Result<Scene, String> {
         scene::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
     }
 }
@@ -586,7 +592,8 @@ fn log_rgb(v: f32, lo: f64, hi: f64) -> [u8; 3] {
     }
 }
 
-fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> Result<Vec<u8>, String> {
+/// An RGB PNG of `w × h` pixels.
+pub(crate) fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> Result<Vec<u8>, String> {
     let flat: Vec<u8> = px.iter().flatten().copied().collect();
     image::png(w, h, Color::Rgb, &flat)
 }
@@ -1772,6 +1779,13 @@ fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec
 /// A scene file error (file, line, field), a bad option, or a run error.
 pub fn main(a: &SceneArgs) -> Result<(), String> {
     let (source, scene) = read_source(&a.file)?;
+    if scene.effect == Effect::DirectLight {
+        let out = a
+            .out
+            .clone()
+            .unwrap_or_else(|| crate::experiments::direct::default_out(&a.file));
+        return crate::experiments::direct::main(a, source, &scene, &out);
+    }
     let (width, height) = match a.resolution {
         Some(r) => r,
         None => (scene.camera.width, scene.camera.height),
@@ -1811,21 +1825,22 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
         let exp = PixelStudy::new(config)?;
         return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
     }
+    let sampler = a.sampler.unwrap_or(SceneSampler::MultiJittered);
     let max = 4 * a.n;
-    let lad = ladder(a.sampler, max);
+    let lad = ladder(sampler, max);
     if !lad.contains(&a.n) {
         return Err(format!(
             "--n {}: {} needs {} (a ladder value)",
             a.n,
-            a.sampler.name(),
-            if a.sampler == SceneSampler::Jittered {
+            sampler.name(),
+            if sampler == SceneSampler::Jittered {
                 "a square"
             } else {
                 "a power of two"
             }
         ));
     }
-    let estimators = image_estimators(&scene, a.pdf, a.sampler);
+    let estimators = image_estimators(&scene, a.pdf, sampler);
     let config = ImagesConfig {
         source: source.clone(),
         width,

@@ -529,6 +529,12 @@ pub fn main(a: &PaperArgs) -> Result<(), String> {
         // The AO scene section's runs (resumable on their own); a sharded
         // paper run leaves them out (the report says how to add them).
         crate::experiments::scene::paper_runs(config.mode, config.seed, &out.join("ao"), &opts)?;
+        crate::experiments::direct::paper_runs(
+            config.mode,
+            config.seed,
+            &out.join("direct"),
+            &opts,
+        )?;
     }
     let exp = Paper::new(config)?;
     run_to_files(

@@ -1,0 +1,2054 @@
+//! `scene FILE` for a `direct-light` scene: direct illumination of diffuse
+//! surfaces by one rectangular area light, estimated with point samples on
+//! the light and with line samples across it (Billen & Dutré 2016), every
+//! line integrated in closed form over its exactly visible pieces
+//! ([`linesample::world::direct_light`]). Nothing else is simulated: the
+//! camera ray finds each pixel's surface point, and the only effect is the
+//! light's direct irradiance there, `E = ∫ G V dA`, tinted by the surface's
+//! albedo (`L = ρ/π · L_e · E`).
+//!
+//! Two runner experiments, one after the other, both resumable and
+//! shardable:
+//!
+//! 1. **Images** (`KIND`, cells: blocks of rows), into `OUT/`: per pixel the
+//!    reference (lines along the light's first edge, `--reference-lines`
+//!    1D-jittered offsets, `--reference-realisations` independent sets),
+//!    every estimator at each `N` of a ladder `1, 4, 16, …, 16·--n` (timed),
+//!    and the per-pixel variance of `--variance-realisations` realisations
+//!    at `N = --n`. Completion writes the tone-mapped reference, the
+//!    equal-samples and equal-time images, the variance images, the map of
+//!    which fixed orientation wins, `images.csv`, and `pixels.json` naming
+//!    pixels A (the largest variance ratio in favour of orientation 1) and B
+//!    (in favour of orientation 2).
+//! 2. **Pixels** (`PIXEL_KIND`, cells: the reference, then every pixel ×
+//!    estimator × `N`), into `OUT/pixels/`: the convergence of every
+//!    estimator at A and B (or at `--pixel X,Y` alone) with `--realisations`
+//!    independent realisations per row, fitted slopes with 95 % intervals,
+//!    time to 1 % relative error, and `OUT/orientation.csv`.
+//!
+//! Seeds: the reference of pixel `i = y·W + x` uses
+//! `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1)).realization(i).realization(r)`;
+//! estimator `e` (its index in the scene's list) at `N` uses
+//! `Seed::new(Seed::new(SEED).stream(1000·e + N))`, then `.realization(i)`
+//! (images) and `.realization(r)`. So the studies at A and B repeat
+//! nothing the images drew, and a resumed or sharded run draws the same
+//! numbers.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use linesample::stats::RunningStats;
+use linesample::world::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+use linesample::world::direct_light_f32::DirectLight32;
+use linesample::Seed;
+use serde::{Deserialize, Serialize};
+
+use crate::cli::{MergeArgs, SceneArgs};
+use crate::experiments::scene::{rgb_png, SceneSource};
+use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
+use crate::figures::multi::{self, Line, Multi, Series};
+use crate::fit::fit_loglog;
+use crate::io::{self, buffer, table, FileGroup};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
+use crate::sampler::{self, DynPattern, PatternSpec};
+use crate::scene::{cross, dot, sub, unit, Effect, Orientation, Scene, SceneSampler};
+
+/// The image experiment's name.
+pub const KIND: &str = "scene-direct";
+/// The pixel-study experiment's name.
+pub const PIXEL_KIND: &str = "scene-direct-pixel";
+
+/// Realisations per pixel-study chunk (merged in order: results do not
+/// depend on the thread count).
+const CHUNK: u64 = 32;
+
+// ---------------------------------------------------------------- world
+
+/// One estimator: points on the light, or lines with an orientation
+/// strategy, and the pattern of its samples.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DlEstimator {
+    /// `None`: points; `Some(o)`: lines oriented by `o`.
+    pub lines: Option<Orientation>,
+    pub sampler: SceneSampler,
+    /// Lines only: the kernel's `f32` SIMD batch
+    /// ([`linesample::world::direct_light_f32::DirectLight32`]) instead of
+    /// the `f64` closed form.
+    #[serde(default)]
+    pub simd: bool,
+}
+
+impl DlEstimator {
+    /// `points` or `lines-<orientation>` (the `orientation.csv` name).
+    #[must_use]
+    pub fn name(&self) -> String {
+        match self.lines {
+            None => "points".into(),
+            Some(o) if self.simd => format!("lines-{}-f32", o.name()),
+            Some(o) => format!("lines-{}", o.name()),
+        }
+    }
+
+    /// The name with the sampler.
+    #[must_use]
+    pub fn label(&self) -> String {
+        format!("{} {}", self.name(), self.sampler.name())
+    }
+
+    /// Whether the estimator draws 2D pattern points (points, and lines
+    /// whose direction and offset come from one 2D pattern).
+    fn two_d(&self) -> bool {
+        matches!(self.lines, None | Some(Orientation::Stratified))
+    }
+}
+
+/// A surface of the scene: a parallelogram with a unit normal and albedo,
+/// and the box it belongs to (`None` for walls).
+#[derive(Clone, Copy, Debug)]
+struct Surface {
+    face: Parallelogram,
+    normal: [f64; 3],
+    albedo: [f64; 3],
+    solid: Option<usize>,
+}
+
+/// What a pixel sees.
+pub enum Seen {
+    /// The light itself: its radiance.
+    Light,
+    /// A surface point and what it needs for every estimate.
+    Surface(Box<DlPixel>),
+}
+
+/// A pixel's surface point.
+pub struct DlPixel {
+    /// The point.
+    pub x: [f64; 3],
+    /// Its unit shading normal (facing the camera).
+    pub n: [f64; 3],
+    /// Its albedo.
+    pub albedo: [f64; 3],
+    /// The occluder faces' shadows on the light.
+    pub shadows: Vec<Shadow>,
+    /// The `f32` batch's prepared receiver (`None` with more than
+    /// [`SIMD_SHADOWS`] shadows).
+    pub dl32: Option<DirectLight32<SIMD_SHADOWS>>,
+}
+
+/// Shadow capacity of the `f32` batch's prepared receiver.
+pub const SIMD_SHADOWS: usize = 16;
+
+/// The direct-light world of a scene.
+pub struct DlWorld {
+    scene: Scene,
+    light: QuadLight,
+    surfaces: Vec<Surface>,
+    /// Per box: its faces with unit outward normals.
+    boxes: Vec<Vec<(Parallelogram, [f64; 3])>>,
+}
+
+impl DlWorld {
+    /// The world of a checked `direct-light` scene at `width × height`.
+    ///
+    /// # Errors
+    /// Not a direct-light scene, or geometry the kernel refuses.
+    pub fn new(mut scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+        if scene.effect != Effect::DirectLight {
+            return Err("not a direct-light scene".into());
+        }
+        scene.camera.width = width;
+        scene.camera.height = height;
+        let l = scene.light.ok_or("a direct-light scene needs a [light]")?;
+        let light =
+            QuadLight::new(l.corner, l.edge1, l.edge2).map_err(|e| format!("[light]: {e}"))?;
+        let mut surfaces = Vec::new();
+        for (i, q) in scene.quads.iter().enumerate() {
+            let face = Parallelogram::new(q.corner, q.edge1, q.edge2)
+                .map_err(|e| format!("quad[{i}]: {e}"))?;
+            surfaces.push(Surface {
+                face,
+                normal: unit(face.normal()),
+                albedo: q.albedo,
+                solid: None,
+            });
+        }
+        let mut boxes = Vec::new();
+        for (i, b) in scene.boxes.iter().enumerate() {
+            let mut faces = Vec::new();
+            for (c, e1, e2) in b.faces() {
+                let face = Parallelogram::new(c, e1, e2).map_err(|e| format!("box[{i}]: {e}"))?;
+                let normal = unit(face.normal());
+                surfaces.push(Surface {
+                    face,
+                    normal,
+                    albedo: b.albedo,
+                    solid: Some(i),
+                });
+                faces.push((face, normal));
+            }
+            boxes.push(faces);
+        }
+        Ok(DlWorld {
+            scene,
+            light,
+            surfaces,
+            boxes,
+        })
+    }
+
+    /// The light.
+    #[must_use]
+    pub fn light(&self) -> &QuadLight {
+        &self.light
+    }
+
+    /// The light's radiance.
+    #[must_use]
+    pub fn radiance(&self) -> [f64; 3] {
+        self.scene.light.map_or([0.0; 3], |l| l.radiance)
+    }
+
+    /// What the camera ray through the centre of pixel `(x, y)` sees, or
+    /// `None` (nothing).
+    #[must_use]
+    pub fn pixel(&self, x: u32, y: u32) -> Option<Seen> {
+        let (o, d) = self
+            .scene
+            .camera
+            .ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
+        self.trace(o, d)
+    }
+
+    /// What the ray `o + t d` sees first.
+    #[must_use]
+    pub fn trace(&self, o: [f64; 3], d: [f64; 3]) -> Option<Seen> {
+        let mut best: Option<(f64, usize)> = None;
+        for (i, s) in self.surfaces.iter().enumerate() {
+            if let Some(t) = hit(&s.face, o, d) {
+                if best.is_none_or(|(b, _)| t < b) {
+                    best = Some((t, i));
+                }
+            }
+        }
+        let [u, v] = self.light.axes();
+        let [l1, l2] = self.light.lengths();
+        let light_face = Parallelogram::new(
+            self.light.corner(),
+            [u[0] * l1, u[1] * l1, u[2] * l1],
+            [v[0] * l2, v[1] * l2, v[2] * l2],
+        )
+        .ok()?;
+        if let Some(t) = hit(&light_face, o, d) {
+            if best.is_none_or(|(b, _)| t < b) && dot(d, self.light.normal()) < 0.0 {
+                return Some(Seen::Light);
+            }
+        }
+        let (t, i) = best?;
+        let s = &self.surfaces[i];
+        let x = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
+        let n = if dot(s.normal, d) > 0.0 {
+            [-s.normal[0], -s.normal[1], -s.normal[2]]
+        } else {
+            s.normal
+        };
+        Some(Seen::Surface(Box::new(
+            self.surface_point(x, n, s.albedo, s.solid),
+        )))
+    }
+
+    /// The shading data of surface point `x` with normal `n` on box `solid`
+    /// (whose own faces cannot shadow it: boxes are convex). Occluders are
+    /// the other boxes' faces that face `x` (a ray entering a convex box
+    /// crosses one of them first); walls never stand between a point of the
+    /// room and the light.
+    #[must_use]
+    pub fn surface_point(
+        &self,
+        x: [f64; 3],
+        n: [f64; 3],
+        albedo: [f64; 3],
+        solid: Option<usize>,
+    ) -> DlPixel {
+        let mut shadows = Vec::new();
+        for (b, faces) in self.boxes.iter().enumerate() {
+            if Some(b) == solid {
+                continue;
+            }
+            for (f, nrm) in faces {
+                if dot(sub(x, f.corner()), *nrm) > 0.0 {
+                    if let Some(s) = Shadow::project(&self.light, x, f) {
+                        shadows.push(s);
+                    }
+                }
+            }
+        }
+        let dl32 = DirectLight32::new(&self.light, x, n, &shadows).ok();
+        DlPixel {
+            x,
+            n,
+            albedo,
+            shadows,
+            dl32,
+        }
+    }
+
+    /// One estimate of `E = ∫ G V dA` at `px` from the pattern values
+    /// `vals` (`[u, v]` for 2D estimators, `[o, ·]` for the others), with
+    /// `rng` for random orientations.
+    ///
+    /// # Errors
+    /// A receiver the kernel refuses.
+    pub fn estimate(
+        &self,
+        px: &DlPixel,
+        est: &DlEstimator,
+        vals: &[[f32; 2]],
+        rng: &mut linesample::Pcg32,
+        scratch: &mut Vec<(f64, f64)>,
+    ) -> Result<f64, String> {
+        let dl =
+            DirectLight::new(&self.light, px.x, px.n, &px.shadows).map_err(|e| e.to_string())?;
+        scratch.resize(dl.scratch_len(), (0.0, 0.0));
+        let n = vals.len() as f64;
+        let [l1, l2] = self.light.lengths();
+        let line = |phi: f64, o01: f64, scratch: &mut Vec<(f64, f64)>| -> Result<f64, String> {
+            let (s, c) = phi.sin_cos();
+            let (lo, hi) = self.light.offset_range(c, s);
+            let w = hi - lo;
+            Ok(match self.light.chord(c, s, lo + w * o01) {
+                Some(ch) => w * dl.line(&ch, scratch).map_err(|e| e.to_string())?,
+                None => 0.0,
+            })
+        };
+        let mut sum = 0.0;
+        if est.simd {
+            let Some(o) = est.lines else {
+                return Err("internal error: f32 points".into());
+            };
+            let dl32 = px.dl32.as_ref().ok_or_else(|| {
+                format!("f32 lines: more than {SIMD_SHADOWS} shadows at this point")
+            })?;
+            let phi = match o {
+                Orientation::Edge1 => 0.0,
+                Orientation::Edge2 => std::f64::consts::FRAC_PI_2,
+                Orientation::Angle(a) => a.to_radians(),
+                _ => return Err("f32 lines: fixed orientations only".into()),
+            };
+            let (sn, cs) = phi.sin_cos();
+            let (lo, hi) = self.light.offset_range(cs, sn);
+            let w = hi - lo;
+            let (c32, s32) = ([cs as f32; 64], [sn as f32; 64]);
+            let (mut offs, mut out) = ([0.0f32; 64], [0.0f32; 64]);
+            for chunk in vals.chunks(64) {
+                let k = chunk.len();
+                for (o, p) in offs.iter_mut().zip(chunk) {
+                    *o = (lo + w * f64::from(p[0])) as f32;
+                }
+                dl32.line_batch_f32(&c32[..k], &s32[..k], &offs[..k], &mut out[..k])
+                    .map_err(|e| e.to_string())?;
+                sum += out[..k].iter().map(|&v| f64::from(v)).sum::<f64>();
+            }
+            return Ok(w * sum / n);
+        }
+        match est.lines {
+            None => {
+                for p in vals {
+                    sum += dl.point(f64::from(p[0]) * l1, f64::from(p[1]) * l2);
+                }
+                sum *= self.light.area();
+            }
+            Some(Orientation::Stratified) => {
+                for p in vals {
+                    sum += line(
+                        std::f64::consts::PI * f64::from(p[0]),
+                        f64::from(p[1]),
+                        scratch,
+                    )?;
+                }
+            }
+            Some(Orientation::RandomPerLine) => {
+                for p in vals {
+                    let phi = std::f64::consts::PI * unit_f64(rng.next_u32());
+                    sum += line(phi, f64::from(p[0]), scratch)?;
+                }
+            }
+            Some(o) => {
+                let phi = match o {
+                    Orientation::Edge1 => 0.0,
+                    Orientation::Edge2 => std::f64::consts::FRAC_PI_2,
+                    Orientation::Angle(a) => a.to_radians(),
+                    _ => std::f64::consts::PI * unit_f64(rng.next_u32()),
+                };
+                for p in vals {
+                    sum += line(phi, f64::from(p[0]), scratch)?;
+                }
+            }
+        }
+        Ok(sum / n)
+    }
+
+    /// The fraction of the light's area hidden from `px` (occluders only,
+    /// not the tangent-plane clamp), from the exactly shadowed lengths of
+    /// `lines` lines along the first edge at the midpoints of equal strata of
+    /// offsets: a midpoint rule, exact up to `O(lines⁻²)`.
+    ///
+    /// # Errors
+    /// A receiver the kernel refuses.
+    pub fn hidden_fraction(&self, px: &DlPixel, lines: usize) -> Result<f64, String> {
+        let dl =
+            DirectLight::new(&self.light, px.x, px.n, &px.shadows).map_err(|e| e.to_string())?;
+        let mut scratch = vec![(0.0, 0.0); dl.scratch_len()];
+        let [l1, l2] = self.light.lengths();
+        let mut hidden = 0.0;
+        for k in 0..lines {
+            let o = l2 * (k as f64 + 0.5) / lines as f64;
+            let Some(ch) = self.light.chord(1.0, 0.0, o) else {
+                continue;
+            };
+            let m = dl.shadowed(&ch, &mut scratch).map_err(|e| e.to_string())?;
+            let mut end = f64::NEG_INFINITY;
+            for &(lo, hi) in &scratch[..m] {
+                let lo = lo.max(end);
+                if hi > lo {
+                    hidden += hi - lo;
+                }
+                end = end.max(hi);
+            }
+        }
+        Ok(hidden / (lines as f64 * l1))
+    }
+
+    /// How close a shadow edge on the light comes to each fixed orientation:
+    /// the smallest angle (radians) between the light's first (second) edge
+    /// and a shadow boundary segment that crosses at least a fifth of the
+    /// light (the shorter side) and is not hidden under another shadow at
+    /// its midpoint, with that segment's length; `(π/2, 0)` without such an
+    /// edge. Lines parallel to a shadow edge see it as a jump of the line
+    /// function; lines crossing it see a kink.
+    #[must_use]
+    pub fn edge_alignment(&self, px: &DlPixel) -> [(f64, f64); 2] {
+        let mut best = [(std::f64::consts::FRAC_PI_2, 0.0); 2];
+        let [l1, l2] = self.light.lengths();
+        let min_len = 0.2 * l1.min(l2);
+        for (si, sh) in px.shadows.iter().enumerate() {
+            let planes = sh.planes();
+            for (pi, p) in planes.iter().enumerate() {
+                let norm = p[0].hypot(p[1]);
+                if norm == 0.0 {
+                    continue;
+                }
+                let d = [-p[1] / norm, p[0] / norm];
+                let p0 = [-p[2] * p[0] / (norm * norm), -p[2] * p[1] / (norm * norm)];
+                let o = -p0[0] * d[1] + p0[1] * d[0];
+                let Some(ch) = self.light.chord(d[0], d[1], o) else {
+                    continue;
+                };
+                let (mut lo, mut hi) = (ch.t0, ch.t1);
+                for (qi, q) in planes.iter().enumerate() {
+                    if qi == pi {
+                        continue;
+                    }
+                    let k = q[0] * d[0] + q[1] * d[1];
+                    let m = q[0] * ch.p0[0] + q[1] * ch.p0[1] + q[2];
+                    if k > 0.0 {
+                        lo = lo.max(-m / k);
+                    } else if k < 0.0 {
+                        hi = hi.min(-m / k);
+                    } else if m < 0.0 {
+                        hi = lo;
+                    }
+                }
+                if hi - lo < min_len {
+                    continue;
+                }
+                let mid = ch.at(0.5 * (lo + hi));
+                let covered = px
+                    .shadows
+                    .iter()
+                    .enumerate()
+                    .any(|(j, o)| j != si && o.contains(mid[0], mid[1]));
+                if covered {
+                    continue;
+                }
+                let phi = d[1].atan2(d[0]).rem_euclid(std::f64::consts::PI);
+                let a1 = phi.min(std::f64::consts::PI - phi);
+                let a2 = (std::f64::consts::FRAC_PI_2 - phi).abs();
+                if a1 < best[0].0 {
+                    best[0] = (a1, hi - lo);
+                }
+                if a2 < best[1].0 {
+                    best[1] = (a2, hi - lo);
+                }
+            }
+        }
+        best
+    }
+
+    /// The radiance factor `ρ/π · L_e` of a surface point (RGB).
+    #[must_use]
+    pub fn tint(&self, px: &DlPixel) -> [f64; 3] {
+        let le = self.radiance();
+        core::array::from_fn(|k| px.albedo[k] / std::f64::consts::PI * le[k])
+    }
+}
+
+/// Ray–parallelogram hit parameter `t > 10⁻⁹`, or `None`.
+fn hit(f: &Parallelogram, o: [f64; 3], d: [f64; 3]) -> Option<f64> {
+    let [e1, e2] = f.edges();
+    let n = f.normal();
+    let den = dot(n, d);
+    if den == 0.0 {
+        return None;
+    }
+    let t = dot(n, sub(f.corner(), o)) / den;
+    if t.partial_cmp(&1e-9) != Some(std::cmp::Ordering::Greater) {
+        return None;
+    }
+    let p = sub(
+        [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
+        f.corner(),
+    );
+    // Dual basis: a = (p × e2)·n / |n|², b = (e1 × p)·n / |n|².
+    let nn = dot(n, n);
+    let a = dot(cross(p, e2), n) / nn;
+    let b = dot(cross(e1, p), n) / nn;
+    ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)).then_some(t)
+}
+
+/// A `u32` as a uniform number in `[0, 1)`.
+fn unit_f64(u: u32) -> f64 {
+    f64::from(u) * (1.0 / 4_294_967_296.0)
+}
+
+/// The pattern behind an estimator at `N`.
+pub struct Pattern {
+    two: Option<DynPattern<2>>,
+    one: Option<DynPattern<1>>,
+    n: usize,
+}
+
+impl Pattern {
+    /// `est`'s pattern of `n` samples. Patterns that are random by
+    /// construction (random, jittered, multi-jittered, CMJ) are used as they
+    /// are; the deterministic ones (Sobol′) get a random toroidal shift per
+    /// realisation. A shift would move a jittered pattern's strata off the
+    /// light's edges, and for lines along an edge the line function, seen
+    /// periodically, jumps there (the light's two opposite edges carry
+    /// different line integrals): jittered lines would be capped at `N⁻²`.
+    ///
+    /// # Errors
+    /// A sample count the sampler does not support.
+    pub fn new(est: &DlEstimator, n: usize) -> Result<Self, String> {
+        let s = est.sampler.pattern();
+        let shift = est.sampler == SceneSampler::Sobol;
+        let err = |e: String| format!("{} with N = {n}: {e}", est.label());
+        // Multi-jittered and CMJ exist only in 2D: lines take the u
+        // coordinates, whose projection is stratified into N strata.
+        let only_2d = matches!(est.sampler, SceneSampler::MultiJittered | SceneSampler::Cmj);
+        if est.two_d() || only_2d {
+            let b = sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift).map_err(err)?;
+            Ok(Pattern {
+                two: Some(b.pattern),
+                one: None,
+                n,
+            })
+        } else {
+            let b = sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift).map_err(err)?;
+            Ok(Pattern {
+                two: None,
+                one: Some(b.pattern),
+                n,
+            })
+        }
+    }
+
+    /// Realisation `seed` into `out` (length `N`).
+    ///
+    /// # Errors
+    /// The pattern's error.
+    pub fn fill(
+        &self,
+        seed: Seed,
+        out: &mut Vec<[f32; 2]>,
+        one: &mut Vec<[f32; 1]>,
+    ) -> Result<(), String> {
+        out.resize(self.n, [0.5, 0.5]);
+        if let Some(p) = &self.two {
+            p.fill(seed, out).map_err(|e| e.to_string())
+        } else if let Some(p) = &self.one {
+            one.resize(self.n, [0.0]);
+            p.fill(seed, one).map_err(|e| e.to_string())?;
+            for (o, u) in out.iter_mut().zip(one.iter()) {
+                *o = [u[0], 0.5];
+            }
+            Ok(())
+        } else {
+            Err("internal error: a pattern without points".into())
+        }
+    }
+}
+
+/// The reference estimator: lines along the light's first edge, 1D-jittered.
+pub const REFERENCE: DlEstimator = DlEstimator {
+    lines: Some(Orientation::Edge1),
+    sampler: SceneSampler::Jittered,
+    simd: false,
+};
+
+fn reference_seed(seed: u64) -> Seed {
+    Seed::new(Seed::new(seed).stream(u64::MAX))
+}
+
+fn row_seed(seed: u64, e: usize, n: usize) -> Seed {
+    Seed::new(Seed::new(seed).stream(1000 * e as u64 + n as u64))
+}
+
+/// A realisation's random-orientation generator.
+fn orient_rng(seed: Seed) -> linesample::Pcg32 {
+    seed.pcg(0x0c1e_47a7)
+}
+
+/// One estimate: fill the pattern of realisation `seed`, estimate.
+#[allow(clippy::too_many_arguments)]
+fn one_estimate(
+    world: &DlWorld,
+    px: &DlPixel,
+    est: &DlEstimator,
+    pattern: &Pattern,
+    seed: Seed,
+    vals: &mut Vec<[f32; 2]>,
+    one: &mut Vec<[f32; 1]>,
+    scratch: &mut Vec<(f64, f64)>,
+) -> Result<f64, String> {
+    pattern.fill(seed, vals, one)?;
+    let mut rng = orient_rng(seed);
+    world.estimate(px, est, vals, &mut rng, scratch)
+}
+
+/// The estimators of the images: [`estimators`], and the first fixed
+/// orientation's lines once more through the kernel's `f32` SIMD batch
+/// (what accuracy costs in time).
+#[must_use]
+pub fn image_estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
+    let mut v = estimators(scene, sampler);
+    if let Some(e) = v.iter().find(|e| {
+        matches!(
+            e.lines,
+            Some(Orientation::Edge1 | Orientation::Edge2 | Orientation::Angle(_))
+        )
+    }) {
+        let f32 = DlEstimator { simd: true, ..*e };
+        v.push(f32);
+    }
+    v
+}
+
+/// The estimators of a scene (points, then lines with each orientation), all
+/// with `sampler`.
+#[must_use]
+pub fn estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
+    let mut v = vec![DlEstimator {
+        lines: None,
+        sampler,
+        simd: false,
+    }];
+    for &o in &scene.estimators.orientations {
+        v.push(DlEstimator {
+            lines: Some(o),
+            sampler,
+            simd: false,
+        });
+    }
+    v
+}
+
+// ---------------------------------------------------------------- images
+
+/// The image run, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ImagesConfig {
+    pub source: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    /// The equal-samples `N`.
+    pub n: usize,
+    /// The `N` of every rendered image.
+    pub ladder: Vec<usize>,
+    pub estimators: Vec<DlEstimator>,
+    pub variance_realisations: u64,
+    pub reference_lines: usize,
+    pub reference_realisations: u64,
+    pub rows_per_cell: u32,
+}
+
+/// One block of rows.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct ImagesCell {
+    /// Reference `E` per pixel (NaN: nothing or the light).
+    pub reference: Vec<f32>,
+    /// Its standard error.
+    pub reference_se: Vec<f32>,
+    /// The fraction of the light hidden by occluders
+    /// ([`DlWorld::hidden_fraction`] with 64 lines).
+    pub hidden: Vec<f32>,
+    /// `images[e·L + l]`: estimator `e` at ladder `N_l`.
+    pub images: Vec<Vec<f32>>,
+    /// Per-pixel variance of each estimator at `N = n`.
+    pub variance: Vec<Vec<f32>>,
+    /// Seconds spent on `images[e·L + l]`.
+    pub seconds: Vec<f64>,
+}
+
+/// The image experiment.
+pub struct Images {
+    config: ImagesConfig,
+    world: DlWorld,
+    cells: Vec<CellInfo>,
+}
+
+impl Images {
+    /// The experiment of `config`.
+    ///
+    /// # Errors
+    /// A scene that no longer parses, or geometry the kernel refuses.
+    pub fn new(config: ImagesConfig) -> Result<Self, String> {
+        let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
+        let rows = config.rows_per_cell.max(1);
+        let cells = (0..config.height.div_ceil(rows))
+            .map(|c| {
+                let y0 = c * rows;
+                let y1 = (y0 + rows).min(config.height);
+                CellInfo {
+                    label: format!("rows {y0}..{y1}"),
+                    work: u64::from((y1 - y0) * config.width),
+                }
+            })
+            .collect();
+        Ok(Images {
+            config,
+            world,
+            cells,
+        })
+    }
+}
+
+impl Experiment for Images {
+    type Config = ImagesConfig;
+    type Cell = ImagesCell;
+    const KIND: &'static str = KIND;
+    const UNIT: &'static str = "pixels";
+
+    fn config(&self) -> &ImagesConfig {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
+        let cfg = &self.config;
+        let rows = cfg.rows_per_cell.max(1);
+        let y0 = index as u32 * rows;
+        let y1 = (y0 + rows).min(cfg.height);
+        let count = ((y1 - y0) * cfg.width) as usize;
+        let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
+        let reference = Pattern::new(&REFERENCE, cfg.reference_lines)?;
+        let mut patterns = Vec::with_capacity(ne * nl);
+        for e in &cfg.estimators {
+            for &n in &cfg.ladder {
+                patterns.push(Pattern::new(e, n)?);
+            }
+        }
+        let at_n = cfg
+            .ladder
+            .iter()
+            .position(|&n| n == cfg.n)
+            .ok_or("internal error: --n is not on the ladder")?;
+        let nan = f32::NAN;
+        let mut cell = ImagesCell {
+            reference: buffer::filled(count, nan, "the reference image")?,
+            reference_se: buffer::filled(count, nan, "the reference SE image")?,
+            hidden: buffer::filled(count, nan, "the hidden-fraction image")?,
+            images: (0..ne * nl)
+                .map(|_| buffer::filled(count, nan, "an image"))
+                .collect::<Result<_, _>>()?,
+            variance: (0..ne)
+                .map(|_| buffer::filled(count, nan, "a variance image"))
+                .collect::<Result<_, _>>()?,
+            seconds: vec![0.0; ne * nl],
+        };
+        let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+        let ref_seed = reference_seed(cfg.seed);
+        for y in y0..y1 {
+            for x in 0..cfg.width {
+                let p = ((y - y0) * cfg.width + x) as usize;
+                let pix = u64::from(y) * u64::from(cfg.width) + u64::from(x);
+                let Some(Seen::Surface(px)) = self.world.pixel(x, y) else {
+                    continue;
+                };
+                let w = &self.world;
+                let mut rs = RunningStats::new();
+                let base = ref_seed.realization(pix);
+                for r in 0..cfg.reference_realisations {
+                    rs.push(one_estimate(
+                        w,
+                        &px,
+                        &REFERENCE,
+                        &reference,
+                        base.realization(r),
+                        &mut vals,
+                        &mut one,
+                        &mut scratch,
+                    )?);
+                }
+                cell.reference[p] = rs.mean() as f32;
+                cell.reference_se[p] = rs.mean_std_error() as f32;
+                cell.hidden[p] = w.hidden_fraction(&px, 64)? as f32;
+                for (e, est) in cfg.estimators.iter().enumerate() {
+                    for (l, &n) in cfg.ladder.iter().enumerate() {
+                        let k = e * nl + l;
+                        let seed = row_seed(cfg.seed, e, n).realization(pix);
+                        let t = Instant::now();
+                        let v = one_estimate(
+                            w,
+                            &px,
+                            est,
+                            &patterns[k],
+                            seed.realization(0),
+                            &mut vals,
+                            &mut one,
+                            &mut scratch,
+                        )?;
+                        cell.seconds[k] += t.elapsed().as_secs_f64();
+                        cell.images[k][p] = v as f32;
+                        if l == at_n {
+                            let mut vs = RunningStats::new();
+                            vs.push(v);
+                            for r in 1..cfg.variance_realisations {
+                                vs.push(one_estimate(
+                                    w,
+                                    &px,
+                                    est,
+                                    &patterns[k],
+                                    seed.realization(r),
+                                    &mut vals,
+                                    &mut one,
+                                    &mut scratch,
+                                )?);
+                            }
+                            cell.variance[e][p] = vs.variance() as f32;
+                        }
+                    }
+                }
+            }
+            ctx.advance(u64::from(cfg.width));
+        }
+        Ok(cell)
+    }
+}
+
+/// The `N` ladder `1, 4, 16, …` up to `max` (squares and powers of two:
+/// every sampler supports them).
+#[must_use]
+pub fn ladder(max: usize) -> Vec<usize> {
+    (0..)
+        .map(|k| 1usize << (2 * k))
+        .take_while(|&n| n <= max)
+        .collect()
+}
+
+/// Pixels A and B: where the first fixed orientation's variance is smallest
+/// relative to the second's, and the reverse.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Chosen {
+    /// `(x, y)` of A (orientation 1 wins).
+    pub a: (u32, u32),
+    /// `var(edge2)/var(edge1)` at A.
+    pub ratio_a: f64,
+    /// `(x, y)` of B (orientation 2 wins).
+    pub b: (u32, u32),
+    /// `var(edge2)/var(edge1)` at B.
+    pub ratio_b: f64,
+    /// The penumbra pixel with a shadow edge closest to parallel to the
+    /// light's first edge ([`DlWorld::edge_alignment`]), when that edge is
+    /// within [`PARALLEL_MAX_DEG`]: lines along edge 1 see a near-jump.
+    pub parallel1: Option<Parallel>,
+    /// The same for the second edge.
+    pub parallel2: Option<Parallel>,
+}
+
+/// Largest angle between a shadow edge and a light edge for which the
+/// pixel is studied as a parallel-edge case (P1, P2).
+pub const PARALLEL_MAX_DEG: f64 = 2.0;
+
+/// A pixel whose shadow has an edge nearly parallel to a light edge.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Parallel {
+    /// `(x, y)`.
+    pub pixel: (u32, u32),
+    /// The angle between the shadow edge and the light edge, degrees.
+    pub angle_deg: f64,
+    /// The length of the shadow edge on the light.
+    pub length: f64,
+    /// `N* = W/(ℓ sin α)`: with `N` jittered lines parallel to the light
+    /// edge (offset range `W`), the edge is a ramp narrower than a stratum
+    /// (a jump: `N⁻²`) for `N ≪ N*`, and a resolved kink (`N⁻³`) for
+    /// `N ≫ N*`.
+    pub turn_n: f64,
+}
+
+impl Chosen {
+    /// The pixels to study: A, B, then P1 and P2 when found.
+    #[must_use]
+    pub fn study_pixels(&self) -> Vec<(String, u32, u32)> {
+        let mut v = vec![
+            ("A".to_string(), self.a.0, self.a.1),
+            ("B".to_string(), self.b.0, self.b.1),
+        ];
+        for (name, p) in [("P1", self.parallel1), ("P2", self.parallel2)] {
+            if let Some(p) = p {
+                v.push((name.to_string(), p.pixel.0, p.pixel.1));
+            }
+        }
+        v
+    }
+}
+
+/// Finds A and B from the two fixed orientations' variance images: among
+/// the penumbra pixels (occluders hide between 5 % and 95 % of the light:
+/// the shadow edges whose orientation the question is about) where both
+/// variances are positive and the larger one is at least `10⁻²` of the
+/// image's 99th percentile of the larger one, the largest and smallest
+/// ratio.
+#[must_use]
+pub fn choose(v1: &[f32], v2: &[f32], hidden: &[f32], width: u32) -> Option<Chosen> {
+    let mut big: Vec<f32> = v1
+        .iter()
+        .zip(v2)
+        .filter(|(a, b)| a.is_finite() && b.is_finite())
+        .map(|(a, b)| a.max(*b))
+        .collect();
+    if big.is_empty() {
+        return None;
+    }
+    big.sort_by(f32::total_cmp);
+    let p99 = big[(big.len() - 1) * 99 / 100];
+    let floor = 1e-2 * p99;
+    let mut best_a: Option<(f64, usize)> = None;
+    let mut best_b: Option<(f64, usize)> = None;
+    for (i, (&a, &b)) in v1.iter().zip(v2).enumerate() {
+        let penumbra = hidden[i] > 0.05 && hidden[i] < 0.95;
+        if !(penumbra && a > 0.0 && b > 0.0 && a.max(b) >= floor) {
+            continue;
+        }
+        let r = f64::from(b) / f64::from(a);
+        if best_a.is_none_or(|(x, _)| r > x) {
+            best_a = Some((r, i));
+        }
+        if best_b.is_none_or(|(x, _)| r < x) {
+            best_b = Some((r, i));
+        }
+    }
+    let (ra, ia) = best_a?;
+    let (rb, ib) = best_b?;
+    let at = |i: usize| ((i % width as usize) as u32, (i / width as usize) as u32);
+    Some(Chosen {
+        a: at(ia),
+        ratio_a: ra,
+        b: at(ib),
+        ratio_b: rb,
+        parallel1: None,
+        parallel2: None,
+    })
+}
+
+/// An `images.csv` row.
+#[derive(Serialize)]
+struct ImageRow {
+    estimator: String,
+    n: usize,
+    #[serde(serialize_with = "table::sci")]
+    seconds: f64,
+    #[serde(serialize_with = "table::sci")]
+    seconds_per_sample: f64,
+    #[serde(serialize_with = "table::sci")]
+    mse: f64,
+    #[serde(serialize_with = "table::sci")]
+    mean_variance: f64,
+    equal_samples: bool,
+    equal_time: bool,
+}
+
+/// Tone map: exposure, `x/(1 + x)`-free simple clamp, sRGB gamma.
+fn srgb(v: f64) -> u8 {
+    let v = v.clamp(0.0, 1.0);
+    let g = if v <= 0.003_130_8 {
+        12.92 * v
+    } else {
+        1.055 * v.powf(1.0 / 2.4) - 0.055
+    };
+    (g * 255.0 + 0.5) as u8
+}
+
+fn log_rgb(v: f32, lo: f64, hi: f64) -> [u8; 3] {
+    if !v.is_finite() || v <= 0.0 {
+        return [0, 0, 0];
+    }
+    let t = ((f64::from(v).log10() - lo) / (hi - lo)).clamp(0.0, 1.0);
+    // Dark blue → yellow.
+    [
+        (255.0 * t) as u8,
+        (255.0 * t.sqrt()) as u8,
+        (255.0 * (1.0 - t) * 0.6) as u8,
+    ]
+}
+
+/// Per-pixel colour data of the image: `Some(tint)` for surfaces, the
+/// light's radiance for the light, `None` for nothing.
+fn tints(world: &DlWorld, w: u32, h: u32) -> Vec<Option<([f64; 3], bool)>> {
+    let mut v = Vec::with_capacity((w * h) as usize);
+    for y in 0..h {
+        for x in 0..w {
+            v.push(match world.pixel(x, y) {
+                None => None,
+                Some(Seen::Light) => Some((world.radiance(), true)),
+                Some(Seen::Surface(px)) => Some((world.tint(&px), false)),
+            });
+        }
+    }
+    v
+}
+
+/// The images' completion: PNGs, `images.csv`, `pixels.json`; returns A
+/// and B.
+///
+/// # Errors
+/// An output error.
+pub fn complete_images(
+    exp: &Images,
+    cells: Vec<ImagesCell>,
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<Option<Chosen>, String> {
+    let cfg = &exp.config;
+    let (w, h) = (cfg.width, cfg.height);
+    let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
+    let total = (w * h) as usize;
+    let mut reference = buffer::empty(total, "the reference image")?;
+    let mut reference_se = buffer::empty(total, "the reference SE image")?;
+    let mut hidden = buffer::empty(total, "the hidden-fraction image")?;
+    let mut images: Vec<Vec<f32>> = (0..ne * nl)
+        .map(|_| buffer::empty(total, "an image"))
+        .collect::<Result<_, _>>()?;
+    let mut variance: Vec<Vec<f32>> = (0..ne)
+        .map(|_| buffer::empty(total, "a variance image"))
+        .collect::<Result<_, _>>()?;
+    let mut seconds = vec![0.0; ne * nl];
+    for c in cells {
+        reference.extend_from_slice(&c.reference);
+        reference_se.extend_from_slice(&c.reference_se);
+        hidden.extend_from_slice(&c.hidden);
+        for (a, b) in images.iter_mut().zip(&c.images) {
+            a.extend_from_slice(b);
+        }
+        for (a, b) in variance.iter_mut().zip(&c.variance) {
+            a.extend_from_slice(b);
+        }
+        for (a, b) in seconds.iter_mut().zip(&c.seconds) {
+            *a += b;
+        }
+    }
+    let tint = tints(&exp.world, w, h);
+    let at_n = cfg.ladder.iter().position(|&n| n == cfg.n).unwrap_or(0);
+    // Exposure: the reference's 99th percentile luminance maps to 1.
+    let lum = |t: [f64; 3], e: f64| (0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2]) * e;
+    let mut lums: Vec<f64> = tint
+        .iter()
+        .zip(&reference)
+        .filter_map(|(t, &r)| match t {
+            Some((t, false)) if r.is_finite() => Some(lum(*t, f64::from(r))),
+            _ => None,
+        })
+        .collect();
+    lums.sort_by(f64::total_cmp);
+    let exposure = lums
+        .get(lums.len().saturating_sub(1) * 99 / 100)
+        .copied()
+        .filter(|&l| l > 0.0)
+        .map_or(1.0, |l| 1.0 / l);
+    let to_rgb = |e_img: &[f32]| -> Vec<[u8; 3]> {
+        tint.iter()
+            .zip(e_img)
+            .map(|(t, &e)| match t {
+                None => [0, 0, 0],
+                Some((_, true)) => [255, 255, 255],
+                Some((t, false)) => {
+                    let e = if e.is_finite() { f64::from(e) } else { 0.0 };
+                    core::array::from_fn(|k| srgb(t[k] * e * exposure))
+                }
+            })
+            .collect()
+    };
+    let mut group = FileGroup::new();
+    let ref_rgb = to_rgb(&reference);
+    group.add_bytes(dir.join("reference.png"), &rgb_png(w, h, &ref_rgb)?)?;
+    let finite = |v: &[f32]| -> Vec<f64> {
+        v.iter()
+            .filter(|x| x.is_finite() && **x > 0.0)
+            .map(|&x| f64::from(x))
+            .collect()
+    };
+    // Variance images share one log scale (the reference's squared mean
+    // level down 8 decades).
+    let mean_ref = {
+        let f = finite(&reference);
+        f.iter().sum::<f64>() / f.len().max(1) as f64
+    };
+    let (vhi, vlo) = (
+        (mean_ref * mean_ref).log10(),
+        (mean_ref * mean_ref).log10() - 8.0,
+    );
+    // Equal time: each estimator's ladder image whose time is closest (in
+    // ratio) to the first line estimator's time at N = n.
+    let target_e = cfg
+        .estimators
+        .iter()
+        .position(|e| e.lines.is_some())
+        .unwrap_or(0);
+    let target = seconds[target_e * nl + at_n];
+    let mut rows = Vec::new();
+    let mut text = String::new();
+    let _ = writeln!(
+        text,
+        "{:<34} {:>5} {:>10} {:>12} {:>11} {:>11}  note",
+        "estimator", "N", "seconds", "s/sample", "MSE", "mean var"
+    );
+    let hit: Vec<usize> = (0..total).filter(|&i| reference[i].is_finite()).collect();
+    let mut equal_time = vec![0usize; ne];
+    for (e, est) in cfg.estimators.iter().enumerate() {
+        let et = (0..nl)
+            .min_by(|&a, &b| {
+                let ra = (seconds[e * nl + a] / target).ln().abs();
+                let rb = (seconds[e * nl + b] / target).ln().abs();
+                ra.total_cmp(&rb)
+            })
+            .unwrap_or(at_n);
+        equal_time[e] = et;
+        for (l, &n) in cfg.ladder.iter().enumerate() {
+            let k = e * nl + l;
+            let img = &images[k];
+            let mse = hit
+                .iter()
+                .map(|&i| {
+                    let d = f64::from(img[i]) - f64::from(reference[i]);
+                    d * d
+                })
+                .sum::<f64>()
+                / hit.len().max(1) as f64;
+            let mean_variance = if l == at_n {
+                let f: Vec<f64> = variance[e]
+                    .iter()
+                    .filter(|x| x.is_finite())
+                    .map(|&x| f64::from(x))
+                    .collect();
+                f.iter().sum::<f64>() / f.len().max(1) as f64
+            } else {
+                f64::NAN
+            };
+            let row = ImageRow {
+                estimator: est.label(),
+                n,
+                seconds: seconds[k],
+                seconds_per_sample: seconds[k] / (hit.len().max(1) * n) as f64,
+                mse,
+                mean_variance,
+                equal_samples: l == at_n,
+                equal_time: l == et,
+            };
+            if row.equal_samples || row.equal_time {
+                let stem = est.label().replace(' ', "-");
+                let rgb = to_rgb(img);
+                if row.equal_samples {
+                    group.add_bytes(dir.join(format!("{stem}-n{n}.png")), &rgb_png(w, h, &rgb)?)?;
+                }
+                if row.equal_time {
+                    group.add_bytes(
+                        dir.join(format!("{stem}-equal-time.png")),
+                        &rgb_png(w, h, &rgb)?,
+                    )?;
+                }
+                let _ = writeln!(
+                    text,
+                    "{:<34} {:>5} {:>10.3e} {:>12.3e} {:>11.3e} {:>11}  {}",
+                    row.estimator,
+                    n,
+                    row.seconds,
+                    row.seconds_per_sample,
+                    row.mse,
+                    if row.mean_variance.is_nan() {
+                        String::new()
+                    } else {
+                        format!("{:.3e}", row.mean_variance)
+                    },
+                    match (row.equal_samples, row.equal_time) {
+                        (true, true) => "equal samples, equal time",
+                        (true, false) => "equal samples",
+                        _ => "equal time",
+                    }
+                );
+            }
+            rows.push(row);
+        }
+        let var_rgb: Vec<[u8; 3]> = variance[e].iter().map(|&v| log_rgb(v, vlo, vhi)).collect();
+        group.add_bytes(
+            dir.join(format!("{}-variance.png", est.label().replace(' ', "-"))),
+            &rgb_png(w, h, &var_rgb)?,
+        )?;
+    }
+    // The sheet: reference + every estimator; rows: equal samples, equal
+    // time, variance.
+    let gap = 4u32;
+    let cols = 1 + ne as u32;
+    let (sw, sh) = (cols * w + (cols - 1) * gap, 3 * h + 2 * gap);
+    let mut sheet = vec![[255u8; 3]; (sw * sh) as usize];
+    let mut blit = |col: u32, row: u32, px: &[[u8; 3]]| {
+        for y in 0..h {
+            for x in 0..w {
+                let (sx, sy) = (col * (w + gap) + x, row * (h + gap) + y);
+                sheet[(sy * sw + sx) as usize] = px[(y * w + x) as usize];
+            }
+        }
+    };
+    blit(0, 0, &ref_rgb);
+    for e in 0..ne {
+        let col = 1 + e as u32;
+        blit(col, 0, &to_rgb(&images[e * nl + at_n]));
+        blit(col, 1, &to_rgb(&images[e * nl + equal_time[e]]));
+        let var_rgb: Vec<[u8; 3]> = variance[e].iter().map(|&v| log_rgb(v, vlo, vhi)).collect();
+        blit(col, 2, &var_rgb);
+    }
+    group.add_bytes(dir.join("sheet.png"), &rgb_png(sw, sh, &sheet)?)?;
+    // Which fixed orientation wins, per pixel: red where edge1's variance
+    // is smaller, blue where edge2's is, brightness the log ratio (full at
+    // 100×); A and B marked with white crosses.
+    let e1 = cfg
+        .estimators
+        .iter()
+        .position(|e| e.lines == Some(Orientation::Edge1));
+    let e2 = cfg
+        .estimators
+        .iter()
+        .position(|e| e.lines == Some(Orientation::Edge2));
+    let mut chosen = match (e1, e2) {
+        (Some(a), Some(b)) => choose(&variance[a], &variance[b], &hidden, w),
+        _ => None,
+    };
+    if let Some(c) = chosen.as_mut() {
+        type Best = Option<((u32, u32), (f64, f64))>;
+        let mut best: [Best; 2] = [None, None];
+        for y in 0..h {
+            for x in 0..w {
+                let i = (y * w + x) as usize;
+                if !(hidden[i] > 0.05 && hidden[i] < 0.95) {
+                    continue;
+                }
+                let Some(Seen::Surface(px)) = exp.world.pixel(x, y) else {
+                    continue;
+                };
+                let al = exp.world.edge_alignment(&px);
+                for k in 0..2 {
+                    if best[k].is_none_or(|(_, a)| al[k].0 < a.0) {
+                        best[k] = Some(((x, y), al[k]));
+                    }
+                }
+            }
+        }
+        let [l1, l2] = exp.world.light().lengths();
+        // Lines along edge 1 have offsets across edge 2, and vice versa.
+        let widths = [l2, l1];
+        let par = |k: usize| {
+            best[k].and_then(|(pixel, (a, len))| {
+                (a.to_degrees() <= PARALLEL_MAX_DEG).then(|| Parallel {
+                    pixel,
+                    angle_deg: a.to_degrees(),
+                    length: len,
+                    turn_n: widths[k] / (len * a.sin()),
+                })
+            })
+        };
+        c.parallel1 = par(0);
+        c.parallel2 = par(1);
+    }
+    if let (Some(a), Some(b)) = (e1, e2) {
+        let mut map: Vec<[u8; 3]> = variance[a]
+            .iter()
+            .zip(&variance[b])
+            .map(|(&v1, &v2)| {
+                if !(v1 > 0.0 && v2 > 0.0) {
+                    return [0, 0, 0];
+                }
+                let r = (f64::from(v2) / f64::from(v1)).log10() / 2.0;
+                let t = (r.abs().clamp(0.0, 1.0) * 255.0) as u8;
+                if r > 0.0 {
+                    [t, t / 6, 0]
+                } else {
+                    [0, t / 3, t]
+                }
+            })
+            .collect();
+        if let Some(c) = chosen {
+            for (px, py) in [c.a, c.b] {
+                for d in -4i32..=4 {
+                    for (x, y) in [(px as i32 + d, py as i32), (px as i32, py as i32 + d)] {
+                        if x >= 0 && y >= 0 && (x as u32) < w && (y as u32) < h {
+                            map[(y as u32 * w + x as u32) as usize] = [255, 255, 255];
+                        }
+                    }
+                }
+            }
+        }
+        group.add_bytes(dir.join("orientation-map.png"), &rgb_png(w, h, &map)?)?;
+    }
+    let ref_var = reference_se
+        .iter()
+        .filter(|s| s.is_finite())
+        .map(|&s| f64::from(s) * f64::from(s))
+        .sum::<f64>()
+        / hit.len().max(1) as f64;
+    let comments = vec![
+        format!(
+            "scene {} at {w}x{h}; {} pixels see a surface; direct light E = ∫ G V dA per pixel",
+            cfg.source.path,
+            hit.len()
+        ),
+        format!(
+            "reference: {} x {} lines along edge 1 with jittered offsets; mean squared SE \
+             {ref_var:.3e} (the floor under every MSE)",
+            cfg.reference_realisations, cfg.reference_lines
+        ),
+        "seconds: time of realisation 0 of each image (pattern fill and estimate), summed over \
+         the cells"
+            .into(),
+    ];
+    group.add_bytes(dir.join("images.csv"), &table::csv(&comments, &rows)?)?;
+    group.add_bytes(dir.join("pixels.json"), &io::json(&chosen)?)?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push("manifest.json".into());
+    let manifest = OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files);
+    group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
+    group.commit()?;
+    if !quiet {
+        crate::out!("{}", text.trim_end());
+        if let Some(c) = chosen {
+            crate::out!(
+                "pixel A {:?}: var(edge2)/var(edge1) = {:.3}; pixel B {:?}: {:.3}",
+                c.a,
+                c.ratio_a,
+                c.b,
+                c.ratio_b
+            );
+            for (name, p) in [("P1", c.parallel1), ("P2", c.parallel2)] {
+                match p {
+                    Some(p) => crate::out!(
+                        "pixel {name} {:?}: a shadow edge {:.3}° from the light's edge {} \
+                         (a jump for N below about {:.0})",
+                        p.pixel,
+                        p.angle_deg,
+                        &name[1..],
+                        p.turn_n
+                    ),
+                    None => crate::out!(
+                        "no penumbra pixel has a shadow edge within {PARALLEL_MAX_DEG}° of the \
+                         light's edge {}",
+                        &name[1..]
+                    ),
+                }
+            }
+        }
+        crate::out!(
+            "wrote {} (and the images beside it)",
+            dir.join("images.csv").display()
+        );
+    }
+    Ok(chosen)
+}
+
+fn reproduce_images(cfg: &ImagesConfig) -> String {
+    format!(
+        "linesample-lab scene {} --resolution {}x{} --n {} --sampler {} \
+         --variance-realisations {} --reference-lines {} --reference-realisations {} --seed {}",
+        cfg.source.path,
+        cfg.width,
+        cfg.height,
+        cfg.n,
+        cfg.estimators
+            .first()
+            .map_or("jittered", |e| e.sampler.name()),
+        cfg.variance_realisations,
+        cfg.reference_lines,
+        cfg.reference_realisations,
+        cfg.seed
+    )
+}
+
+// ---------------------------------------------------------------- pixels
+
+/// The pixel studies, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PixelConfig {
+    pub source: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    /// `(label, x, y)`: `A`, `B`, or `P` for `--pixel`.
+    pub pixels: Vec<(String, u32, u32)>,
+    pub seed: u64,
+    pub ns: Vec<usize>,
+    pub realisations: u64,
+    pub estimators: Vec<DlEstimator>,
+    pub reference_lines: usize,
+    pub reference_realisations: u64,
+}
+
+/// One cell: a reference (`row = None`) or a row's statistics.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct PixelCell {
+    pub count: u64,
+    pub moments: [f64; 4],
+    /// Seconds per estimate (single thread).
+    pub seconds: f64,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Job {
+    pixel: usize,
+    /// `None`: the reference.
+    row: Option<(usize, usize)>,
+}
+
+/// The pixel-study experiment.
+pub struct PixelStudy {
+    config: PixelConfig,
+    world: DlWorld,
+    points: Vec<DlPixel>,
+    jobs: Vec<Job>,
+    cells: Vec<CellInfo>,
+}
+
+impl PixelStudy {
+    /// The experiment of `config`.
+    ///
+    /// # Errors
+    /// A pixel outside the image or one that sees no surface.
+    pub fn new(config: PixelConfig) -> Result<Self, String> {
+        let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
+        let mut points = Vec::new();
+        let mut jobs = Vec::new();
+        let mut cells = Vec::new();
+        for (p, (label, x, y)) in config.pixels.iter().enumerate() {
+            if *x >= config.width || *y >= config.height {
+                return Err(format!(
+                    "pixel {label} ({x}, {y}) is outside the {}x{} image",
+                    config.width, config.height
+                ));
+            }
+            match world.pixel(*x, *y) {
+                Some(Seen::Surface(px)) => points.push(*px),
+                Some(Seen::Light) => {
+                    return Err(format!(
+                        "pixel {label} ({x}, {y}) sees the light itself: nothing to estimate"
+                    ))
+                }
+                None => return Err(format!("pixel {label} ({x}, {y}) sees no surface")),
+            }
+            jobs.push(Job {
+                pixel: p,
+                row: None,
+            });
+            cells.push(CellInfo {
+                label: format!("{label} ({x}, {y}) reference"),
+                work: config.reference_realisations,
+            });
+            for (e, est) in config.estimators.iter().enumerate() {
+                for (i, &n) in config.ns.iter().enumerate() {
+                    Pattern::new(est, n)?;
+                    jobs.push(Job {
+                        pixel: p,
+                        row: Some((e, i)),
+                    });
+                    cells.push(CellInfo {
+                        label: format!("{label} {} N={n}", est.label()),
+                        work: config.realisations,
+                    });
+                }
+            }
+        }
+        Ok(PixelStudy {
+            config,
+            world,
+            points,
+            jobs,
+            cells,
+        })
+    }
+}
+
+impl Experiment for PixelStudy {
+    type Config = PixelConfig;
+    type Cell = PixelCell;
+    const KIND: &'static str = PIXEL_KIND;
+    const UNIT: &'static str = "realisations";
+
+    fn config(&self) -> &PixelConfig {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+        let cfg = &self.config;
+        let job = self.jobs[index];
+        let (_, x, y) = &cfg.pixels[job.pixel];
+        let pix = u64::from(*y) * u64::from(cfg.width) + u64::from(*x);
+        let px = &self.points[job.pixel];
+        let (est, n, seed, total) = match job.row {
+            None => (
+                REFERENCE,
+                cfg.reference_lines,
+                reference_seed(cfg.seed).realization(pix),
+                cfg.reference_realisations,
+            ),
+            Some((e, i)) => (
+                cfg.estimators[e],
+                cfg.ns[i],
+                row_seed(cfg.seed, e, cfg.ns[i]),
+                cfg.realisations,
+            ),
+        };
+        let pattern = Pattern::new(&est, n)?;
+        let chunks = total.div_ceil(CHUNK);
+        let parts = ctx.map_ordered(
+            chunks as usize,
+            |c| -> Result<(RunningStats, f64), String> {
+                let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+                let mut rs = RunningStats::new();
+                let t = Instant::now();
+                let r0 = c as u64 * CHUNK;
+                for r in r0..(r0 + CHUNK).min(total) {
+                    rs.push(one_estimate(
+                        &self.world,
+                        px,
+                        &est,
+                        &pattern,
+                        seed.realization(r),
+                        &mut vals,
+                        &mut one,
+                        &mut scratch,
+                    )?);
+                }
+                ctx.advance(rs.count());
+                Ok((rs, t.elapsed().as_secs_f64()))
+            },
+        )?;
+        let mut rs = RunningStats::new();
+        let mut secs = 0.0;
+        for (s, t) in parts {
+            rs.merge(&s);
+            secs += t;
+        }
+        let (count, moments) = rs.parts();
+        Ok(PixelCell {
+            count,
+            moments,
+            seconds: secs / count.max(1) as f64,
+        })
+    }
+}
+
+/// A row of `OUT/pixels/rows.csv`.
+#[derive(Serialize)]
+struct Row {
+    pixel: String,
+    x: u32,
+    y: u32,
+    estimator: String,
+    sampler: String,
+    n: usize,
+    realisations: u64,
+    #[serde(serialize_with = "table::sci")]
+    mean: f64,
+    #[serde(serialize_with = "table::sci")]
+    bias_z: f64,
+    #[serde(serialize_with = "table::sci")]
+    variance: f64,
+    #[serde(serialize_with = "table::sci")]
+    variance_se: f64,
+    #[serde(serialize_with = "table::sci")]
+    seconds_per_estimate: f64,
+}
+
+/// A row of `OUT/orientation.csv`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct OrientationRow {
+    pub pixel: String,
+    pub x: u32,
+    pub y: u32,
+    pub estimator: String,
+    pub slope: f64,
+    pub slope_ci_low: f64,
+    pub slope_ci_high: f64,
+}
+
+/// A row of `OUT/pixels/slopes.csv`: the fit and what follows from it.
+#[derive(Serialize)]
+struct SlopeRow {
+    pixel: String,
+    estimator: String,
+    sampler: String,
+    #[serde(serialize_with = "table::sci")]
+    slope: f64,
+    #[serde(serialize_with = "table::sci")]
+    slope_ci_low: f64,
+    #[serde(serialize_with = "table::sci")]
+    slope_ci_high: f64,
+    /// Slope between the two largest `N`.
+    #[serde(serialize_with = "table::sci")]
+    last_slope: f64,
+    /// Seconds to a 1 % relative RMSE, read off the fit.
+    #[serde(serialize_with = "table::sci")]
+    seconds_to_1pct: f64,
+}
+
+/// The pixel studies' completion: `pixels/rows.csv`, `pixels/slopes.csv`,
+/// plots, and `orientation.csv` one folder up (in `OUT`).
+///
+/// # Errors
+/// An output error.
+pub fn complete_pixels(
+    exp: &PixelStudy,
+    cells: Vec<PixelCell>,
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let cfg = &exp.config;
+    let mut group = FileGroup::new();
+    let mut rows = Vec::new();
+    let mut slopes = Vec::new();
+    let mut orientation = Vec::new();
+    let mut text = String::new();
+    let per_pixel = 1 + cfg.estimators.len() * cfg.ns.len();
+    for (p, (label, x, y)) in cfg.pixels.iter().enumerate() {
+        let base = p * per_pixel;
+        let st = |c: &PixelCell| {
+            RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
+        };
+        let r = st(&cells[base])?;
+        let (rv, rse) = (r.mean(), r.mean_std_error());
+        let _ = writeln!(
+            text,
+            "pixel {label} ({x}, {y}): reference E = {rv:.6e} ± {rse:.1e} ({} x {} lines)",
+            cfg.reference_realisations, cfg.reference_lines
+        );
+        let mut series = Vec::new();
+        for (e, est) in cfg.estimators.iter().enumerate() {
+            let mut pts = Vec::new();
+            let mut secs = Vec::new();
+            for (i, &n) in cfg.ns.iter().enumerate() {
+                let c = &cells[base + 1 + e * cfg.ns.len() + i];
+                let s = st(c)?;
+                let se = s.mean_std_error();
+                let z = (s.mean() - rv) / se.hypot(rse);
+                rows.push(Row {
+                    pixel: label.clone(),
+                    x: *x,
+                    y: *y,
+                    estimator: est.name(),
+                    sampler: est.sampler.name().into(),
+                    n,
+                    realisations: s.count(),
+                    mean: s.mean(),
+                    bias_z: z,
+                    variance: s.variance(),
+                    variance_se: s.variance_std_error(),
+                    seconds_per_estimate: c.seconds,
+                });
+                pts.push((n as f64, s.variance(), s.variance_std_error()));
+                secs.push(c.seconds);
+            }
+            let fit = fit_loglog(&pts);
+            let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
+            let m = pts.len();
+            let last = if m >= 2 {
+                (pts[m - 1].1 / pts[m - 2].1).ln() / (pts[m - 1].0 / pts[m - 2].0).ln()
+            } else {
+                f64::NAN
+            };
+            // Time to RMSE = 1 % of E: N with var(N) = (0.01 E)², time ∝ N.
+            let t1 = fit.map_or(f64::NAN, |f| {
+                let target = (0.01 * rv) * (0.01 * rv);
+                let n_needed = ((target.ln() - f.intercept) / f.slope).exp();
+                let per_sample = secs[m - 1] / pts[m - 1].0;
+                n_needed.max(1.0) * per_sample
+            });
+            let _ = writeln!(
+                text,
+                "  {:<30} slope {slope:+.2} [{:+.2}, {:+.2}]  last two N {last:+.2}  \
+                 time to 1 %: {t1:.2e} s",
+                est.label(),
+                slope - 1.96 * se,
+                slope + 1.96 * se
+            );
+            slopes.push(SlopeRow {
+                pixel: label.clone(),
+                estimator: est.name(),
+                sampler: est.sampler.name().into(),
+                slope,
+                slope_ci_low: slope - 1.96 * se,
+                slope_ci_high: slope + 1.96 * se,
+                last_slope: last,
+                seconds_to_1pct: t1,
+            });
+            if est.sampler == SceneSampler::Jittered {
+                orientation.push(OrientationRow {
+                    pixel: label.clone(),
+                    x: *x,
+                    y: *y,
+                    estimator: est.name(),
+                    slope,
+                    slope_ci_low: slope - 1.96 * se,
+                    slope_ci_high: slope + 1.96 * se,
+                });
+            }
+            let (n0, n1) = (pts[0].0, pts[m - 1].0);
+            series.push(Series {
+                label: est.label(),
+                points: pts.clone(),
+                fit: fit.map(|f| Line {
+                    a: f.intercept,
+                    slope: f.slope,
+                    log_power: 0,
+                    x0: n0,
+                    x1: n1,
+                }),
+                ..Series::default()
+            });
+        }
+        let title = format!("Direct light, pixel {label} ({x}, {y}): variance vs N");
+        let svg = multi::multi(&Multi {
+            title: &title,
+            subtitle: "points on the light vs lines across it; solid: fitted power law",
+            x_label: "N (samples per estimate)",
+            y_label: "variance of E",
+            series: &series,
+            log_x: true,
+        })?;
+        group.add_bytes(dir.join(format!("convergence-{label}.svg")), svg.as_bytes())?;
+        // Time to error: RMSE against seconds per estimate.
+        let time_series: Vec<Series> = series
+            .iter()
+            .enumerate()
+            .map(|(e, s)| {
+                let secs: Vec<f64> = (0..cfg.ns.len())
+                    .map(|i| cells[base + 1 + e * cfg.ns.len() + i].seconds)
+                    .collect();
+                Series {
+                    label: s.label.clone(),
+                    points: s
+                        .points
+                        .iter()
+                        .zip(&secs)
+                        .map(|(&(_, v, vse), &t)| {
+                            let rmse = v.sqrt() / rv;
+                            (t, rmse, 0.5 * vse / v.sqrt() / rv)
+                        })
+                        .collect(),
+                    joined: true,
+                    ..Series::default()
+                }
+            })
+            .collect();
+        let title = format!("Direct light, pixel {label} ({x}, {y}): error vs time");
+        let svg = multi::multi(&Multi {
+            title: &title,
+            subtitle: "relative RMSE of one estimate against its time (one thread)",
+            x_label: "seconds per estimate",
+            y_label: "relative RMSE",
+            series: &time_series,
+            log_x: true,
+        })?;
+        group.add_bytes(
+            dir.join(format!("time-to-error-{label}.svg")),
+            svg.as_bytes(),
+        )?;
+    }
+    let comments = vec![format!(
+        "scene {}; {} realisations per row; bias_z = (mean − reference)/combined SE",
+        cfg.source.path, cfg.realisations
+    )];
+    group.add_bytes(dir.join("rows.csv"), &table::csv(&comments, &rows)?)?;
+    group.add_bytes(dir.join("slopes.csv"), &table::csv(&comments, &slopes)?)?;
+    let parent = dir.parent().unwrap_or(dir);
+    group.add_bytes(
+        parent.join("orientation.csv"),
+        &table::csv(
+            &["slopes of variance vs N with 95 % intervals, jittered patterns".to_string()],
+            &orientation,
+        )?,
+    )?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push("manifest.json".into());
+    let manifest = OutputManifest::new(PIXEL_KIND, reproduce_pixels(cfg), cfg, info, files);
+    group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
+    group.commit()?;
+    if !quiet {
+        crate::out!("{}", text.trim_end());
+        crate::out!("wrote {}", parent.join("orientation.csv").display());
+    }
+    Ok(())
+}
+
+fn reproduce_pixels(cfg: &PixelConfig) -> String {
+    let px: Vec<String> = cfg
+        .pixels
+        .iter()
+        .map(|(l, x, y)| format!("{l}=({x},{y})"))
+        .collect();
+    format!(
+        "linesample-lab scene {} --resolution {}x{} --pixel-n {} --realisations {} --seed {}  \
+         (pixels {})",
+        cfg.source.path,
+        cfg.width,
+        cfg.height,
+        cfg.ns
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(","),
+        cfg.realisations,
+        cfg.seed,
+        px.join(" ")
+    )
+}
+
+// ---------------------------------------------------------------- entry
+
+/// The pixel-study estimators: each of `samplers` × (points, lines with
+/// each orientation).
+#[must_use]
+pub fn study_estimators(scene: &Scene, samplers: &[SceneSampler]) -> Vec<DlEstimator> {
+    samplers
+        .iter()
+        .flat_map(|&s| estimators(scene, s))
+        .collect()
+}
+
+/// `linesample-lab scene FILE` for a direct-light scene.
+///
+/// # Errors
+/// A bad option or a run error.
+pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Result<(), String> {
+    let (width, height) = a
+        .resolution
+        .unwrap_or((scene.camera.width, scene.camera.height));
+    let opts = a.run.options();
+    let samplers = a
+        .samplers
+        .clone()
+        .unwrap_or_else(|| vec![SceneSampler::Random, SceneSampler::Jittered]);
+    let pixel_config = |pixels: Vec<(String, u32, u32)>| PixelConfig {
+        source: source.clone(),
+        width,
+        height,
+        pixels,
+        seed: a.run.seed,
+        ns: a.pixel_n.clone(),
+        realisations: a.realisations,
+        estimators: study_estimators(scene, &samplers),
+        reference_lines: a.reference_lines.unwrap_or(4096),
+        reference_realisations: a.reference_realisations.unwrap_or(64),
+    };
+    if let Some((x, y)) = a.pixel {
+        let exp = PixelStudy::new(pixel_config(vec![("P".into(), x, y)]))?;
+        return run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels));
+    }
+    if !a.n.is_power_of_two() || !a.n.trailing_zeros().is_multiple_of(2) {
+        return Err(format!(
+            "--n {}: direct-light images need a power of 4 (1, 4, 16, 64, …: a square and a \
+             power of two, which every sampler supports)",
+            a.n
+        ));
+    }
+    let chosen = run_images(
+        source.clone(),
+        width,
+        height,
+        a.run.seed,
+        a.n,
+        image_estimators(scene, a.sampler.unwrap_or(SceneSampler::Jittered)),
+        a.variance_realisations,
+        a.reference_lines.unwrap_or(256),
+        a.reference_realisations.unwrap_or(4),
+        out,
+        &opts,
+    )?;
+    let Some(chosen) = chosen else {
+        return Ok(());
+    };
+    let exp = PixelStudy::new(pixel_config(chosen.study_pixels()))?;
+    run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels))
+}
+
+/// Runs the images; `Some(A and B)` when complete and found.
+///
+/// # Errors
+/// A run error.
+#[allow(clippy::too_many_arguments)]
+pub fn run_images(
+    source: SceneSource,
+    width: u32,
+    height: u32,
+    seed: u64,
+    n: usize,
+    estimators: Vec<DlEstimator>,
+    variance_realisations: u64,
+    reference_lines: usize,
+    reference_realisations: u64,
+    out: &Path,
+    opts: &crate::runner::RunOptions,
+) -> Result<Option<Chosen>, String> {
+    let config = ImagesConfig {
+        source,
+        width,
+        height,
+        seed,
+        n,
+        ladder: ladder(16 * n),
+        estimators,
+        variance_realisations,
+        reference_lines,
+        reference_realisations,
+        rows_per_cell: 8,
+    };
+    let exp = Images::new(config)?;
+    let mut chosen = None;
+    let slot = &mut chosen;
+    run_to_files(
+        &exp,
+        out,
+        opts,
+        Box::new(move |e, c, i, d, q| {
+            *slot = complete_images(e, c, i, d, q)?;
+            Ok(())
+        }),
+    )?;
+    Ok(chosen)
+}
+
+/// `linesample-lab merge` for direct-light image shards.
+///
+/// # Errors
+/// As [`crate::runner::merge`].
+pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = Images::new(config_from(config, KIND)?)?;
+    merge_to_files(
+        &exp,
+        a,
+        Box::new(|e, c, i, d, q| complete_images(e, c, i, d, q).map(|_| ())),
+    )
+}
+
+/// `linesample-lab merge` for direct-light pixel-study shards.
+///
+/// # Errors
+/// As [`crate::runner::merge`].
+pub fn merge_pixel(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
+    merge_to_files(&exp, a, Box::new(complete_pixels))
+}
+
+/// Where `scene FILE` writes by default.
+#[must_use]
+pub fn default_out(file: &Path) -> PathBuf {
+    let stem = file
+        .file_stem()
+        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
+    PathBuf::from("out/scene").join(stem)
+}
+
+// ---------------------------------------------------------------- paper
+
+/// The Cornell box scene, built into the binary (the report does not depend
+/// on the working directory).
+pub const CORNELL_SCENE: &str = include_str!("../../../scenes/cornell-box.toml");
+/// The name the built-in scene is reported under.
+pub const CORNELL_SCENE_NAME: &str = "scenes/cornell-box.toml";
+
+/// The direct-light runs of the `paper` report for `mode`, into `dir`:
+/// images (jittered, N = 16) and the studies at A, B and the
+/// parallel-edge pixels (jittered and random). Sizes: reduced 48² images,
+/// N = 16, 64, 256 with R = 40; quick 192², N = 16 … 1024, R = 300; full
+/// 512², N = 16 … 4096, R = 1000.
+///
+/// # Errors
+/// A run error.
+pub fn paper_runs(
+    mode: crate::experiments::paper::plan::Mode,
+    seed: u64,
+    dir: &Path,
+    opts: &crate::runner::RunOptions,
+) -> Result<(), String> {
+    use crate::experiments::paper::plan::Mode;
+    let source = SceneSource {
+        path: CORNELL_SCENE_NAME.into(),
+        text: CORNELL_SCENE.into(),
+    };
+    let scene = source.scene()?;
+    let (res, ns, r): (u32, Vec<usize>, u64) = match mode {
+        Mode::Reduced => (48, vec![16, 64, 256], 40),
+        Mode::Quick => (192, vec![16, 64, 256, 1024], 300),
+        Mode::Full => (512, vec![16, 64, 256, 1024, 4096], 1000),
+    };
+    let quiet = crate::runner::RunOptions {
+        quiet: true,
+        ..opts.clone()
+    };
+    if !opts.quiet {
+        crate::out!("Cornell box direct light: images at {res}x{res}, pixels A and B");
+    }
+    let chosen = run_images(
+        source.clone(),
+        res,
+        res,
+        seed,
+        16,
+        image_estimators(&scene, SceneSampler::Jittered),
+        8,
+        256,
+        4,
+        dir,
+        &quiet,
+    )?;
+    let Some(chosen) = chosen else {
+        return Ok(());
+    };
+    let pixels = chosen.study_pixels();
+    let exp = PixelStudy::new(PixelConfig {
+        source,
+        width: res,
+        height: res,
+        pixels,
+        seed,
+        ns,
+        realisations: r,
+        estimators: study_estimators(&scene, &[SceneSampler::Random, SceneSampler::Jittered]),
+        reference_lines: 4096,
+        reference_realisations: 64,
+    })?;
+    run_to_files(&exp, &dir.join("pixels"), &quiet, Box::new(complete_pixels))
+}

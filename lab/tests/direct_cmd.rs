@@ -1,0 +1,392 @@
+//! `linesample-lab scene` on a direct-light scene (the Cornell box): the
+//! files and `orientation.csv`, resume, independence of the thread count,
+//! clean errors for bad scene files and pixels; and (release, `--ignored`) every
+//! estimator unbiased against the reference at A, B and random pixels.
+
+mod common;
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use common::*;
+use linesample::stats::RunningStats;
+use linesample::Seed;
+use linesample_lab::experiments::direct::{self, DlEstimator, DlWorld, Pattern, Seen, REFERENCE};
+use linesample_lab::experiments::scene::SceneSource;
+use linesample_lab::scene::{self, Orientation, SceneSampler};
+
+fn scene_file() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../scenes/cornell-box.toml")
+}
+
+fn run(dir: &TempDir, out: &str, threads: &str) -> std::process::Output {
+    let file = scene_file().display().to_string();
+    lab(
+        dir,
+        &[
+            "scene",
+            &file,
+            "--resolution",
+            "24x24",
+            "--n",
+            "4",
+            "--sampler",
+            "jittered",
+            "--variance-realisations",
+            "3",
+            "--reference-lines",
+            "16",
+            "--reference-realisations",
+            "2",
+            "--pixel-n",
+            "4,16,64",
+            "--realisations",
+            "8",
+            "--threads",
+            threads,
+            "--out",
+            out,
+        ],
+    )
+}
+
+#[test]
+fn images_pixels_orientation_resume_and_threads() {
+    let dir = TempDir::new("direct-images");
+    let o = run(&dir, "a", "2");
+    ok(&o, "direct-light scene");
+    let a = dir.path().join("a");
+    for f in [
+        "reference.png",
+        "sheet.png",
+        "orientation-map.png",
+        "images.csv",
+        "pixels.json",
+        "manifest.json",
+        "orientation.csv",
+        "points-jittered-n4.png",
+        "lines-edge1-jittered-equal-time.png",
+        "lines-edge2-jittered-variance.png",
+        "pixels/slopes.csv",
+        "pixels/rows.csv",
+        "pixels/convergence-A.svg",
+        "pixels/convergence-B.svg",
+        "pixels/time-to-error-A.svg",
+    ] {
+        assert!(a.join(f).is_file(), "missing {f}");
+    }
+    let csv = fs::read_to_string(a.join("orientation.csv")).unwrap();
+    let body: Vec<&str> = csv.lines().filter(|l| !l.starts_with('#')).collect();
+    assert_eq!(
+        body[0],
+        "pixel,x,y,estimator,slope,slope_ci_low,slope_ci_high"
+    );
+    for want in ["A,", "B,"] {
+        for est in ["points", "lines-edge1", "lines-edge2"] {
+            assert!(
+                body.iter()
+                    .any(|l| l.starts_with(want) && l.split(',').nth(3) == Some(est)),
+                "orientation.csv lacks {want}{est}:\n{csv}"
+            );
+        }
+    }
+    // Every slope is a number.
+    for l in &body[1..] {
+        let s: f64 = l.split(',').nth(4).unwrap().parse().unwrap();
+        assert!(s.is_finite(), "{l}");
+    }
+    // Resume: nothing is recomputed.
+    let again = run(&dir, "a", "2");
+    ok(&again, "resumed run");
+    assert!(
+        stdout(&again).contains("already done, computing 0"),
+        "{}",
+        stdout(&again)
+    );
+    // One thread draws the same numbers: the estimate images and the rows
+    // (times aside) are identical.
+    ok(&run(&dir, "b", "1"), "one thread");
+    let b = dir.path().join("b");
+    for f in [
+        "reference.png",
+        "points-jittered-n4.png",
+        "lines-edge2-jittered-n4.png",
+        "pixels.json",
+    ] {
+        assert_eq!(
+            fs::read(a.join(f)).unwrap(),
+            fs::read(b.join(f)).unwrap(),
+            "{f} differs between 2 and 1 threads"
+        );
+    }
+    let strip = |p: &Path| -> Vec<String> {
+        fs::read_to_string(p)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split(',').take(11).collect::<Vec<_>>().join(","))
+            .collect()
+    };
+    assert_eq!(
+        strip(&a.join("pixels/rows.csv")),
+        strip(&b.join("pixels/rows.csv"))
+    );
+}
+
+#[test]
+fn bad_scene_files_give_one_clean_error() {
+    let dir = TempDir::new("direct-bad");
+    let text = fs::read_to_string(scene_file()).unwrap();
+    let cases: [(&str, &str, &str); 6] = [
+        (
+            "edge2 = [0.0, 0.0, 0.38]",
+            "edge2 = [0.1, 0.0, 0.38]",
+            "light.edge2",
+        ),
+        (
+            "\"stratified\"]",
+            "\"diagonal\"]",
+            "estimators.orientations[4]",
+        ),
+        (
+            "albedo = [0.63, 0.065, 0.05]",
+            "albedo = [1.63, 0.065, 0.05]",
+            "quad[3].albedo",
+        ),
+        (
+            "size = [0.6, 0.6, 0.6]",
+            "size = [0.6, -0.6, 0.6]",
+            "box[0].size",
+        ),
+        (
+            "kind = \"direct-light\"",
+            "kind = \"direct-light\"\nmax-distance = 3.0",
+            "effect.max-distance",
+        ),
+        (
+            "radiance = [17.0, 12.0, 4.0]",
+            "radiance = [17.0, nan, 4.0]",
+            "light.radiance",
+        ),
+    ];
+    for (from, to, field) in cases {
+        assert!(text.contains(from), "{from}");
+        let path = dir.path().join("bad.toml");
+        fs::write(&path, text.replacen(from, to, 1)).unwrap();
+        let o = lab(&dir, &["scene", path.to_str().unwrap(), "--out", "x"]);
+        fails_with(&o, field, field);
+    }
+    // No light at all.
+    let start = text.find("[light]").unwrap();
+    let end = text[start..].find("[[quad]]").unwrap() + start;
+    let path = dir.path().join("nolight.toml");
+    fs::write(&path, format!("{}{}", &text[..start], &text[end..])).unwrap();
+    let o = lab(&dir, &["scene", path.to_str().unwrap(), "--out", "x"]);
+    fails_with(&o, "needs a [light]", "no light");
+    // A pixel that sees the light itself, and one outside the image.
+    let file = scene_file().display().to_string();
+    let o = lab(
+        &dir,
+        &[
+            "scene",
+            &file,
+            "--resolution",
+            "32x32",
+            "--pixel",
+            "16,2",
+            "--out",
+            "p",
+        ],
+    );
+    fails_with(&o, "sees the light itself", "pixel on the light");
+    let o = lab(
+        &dir,
+        &[
+            "scene",
+            &file,
+            "--resolution",
+            "32x32",
+            "--pixel",
+            "40,3",
+            "--out",
+            "p",
+        ],
+    );
+    fails_with(&o, "outside", "pixel outside");
+}
+
+/// Every estimator × {random, jittered} at A, B and five random surface
+/// pixels of a 64² image: the mean of R = 20000 estimates with N = 16 within
+/// 4.5 combined standard errors of the reference (64 × 4096 lines along
+/// edge 1). 7 pixels × 12 rows = 84 checks; at 4.5 SE a normal mean
+/// exceeds the bound with probability 6.8·10⁻⁶, so the suite's false-alarm
+/// rate is 84 × 6.8·10⁻⁶ ≈ 0.06 %.
+#[test]
+#[ignore = "release statistics: cargo test --release -p linesample-lab --test direct_cmd -- --ignored"]
+fn every_estimator_is_unbiased() {
+    let path = scene_file();
+    let text = fs::read_to_string(&path).unwrap();
+    let sc = scene::parse(&path, &text).unwrap();
+    let source = SceneSource {
+        path: path.display().to_string(),
+        text,
+    };
+    let (w, h) = (64u32, 64u32);
+    let world = DlWorld::new(sc.clone(), w, h).unwrap();
+    // A and B from a small image run.
+    let dir = TempDir::new("direct-bias");
+    let out = dir.path().join("img");
+    let opts = linesample_lab::runner::RunOptions {
+        quiet: true,
+        ..linesample_lab::runner::RunOptions::default()
+    };
+    let chosen = direct::run_images(
+        source,
+        w,
+        h,
+        7,
+        16,
+        direct::estimators(&sc, SceneSampler::Jittered),
+        8,
+        64,
+        2,
+        &out,
+        &opts,
+    )
+    .unwrap()
+    .expect("a penumbra in the Cornell box");
+    let mut pixels = vec![chosen.a, chosen.b];
+    let mut rng = Seed::new(99).pcg(1);
+    // Random pixels that get some light (the ceiling and the faces turned
+    // away from the light get none: every estimator is exactly 0 there).
+    while pixels.len() < 7 {
+        let (x, y) = (rng.next_u32() % w, rng.next_u32() % h);
+        if let Some(Seen::Surface(px)) = world.pixel(x, y) {
+            let lit = (0..64).any(|k| {
+                let l = world.light().lengths();
+                let a = l[0] * (f64::from(k % 8) + 0.5) / 8.0;
+                let b = l[1] * (f64::from(k / 8) + 0.5) / 8.0;
+                linesample::world::direct_light::DirectLight::new(
+                    world.light(),
+                    px.x,
+                    px.n,
+                    &px.shadows,
+                )
+                .unwrap()
+                .point(a, b)
+                    > 0.0
+            });
+            if lit {
+                pixels.push((x, y));
+            }
+        }
+    }
+    let ests = direct::study_estimators(&sc, &[SceneSampler::Random, SceneSampler::Jittered]);
+    assert_eq!(ests.len(), 12);
+    let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+    let mut worst: f64 = 0.0;
+    let mut biggest_se: f64 = 0.0;
+    for (pi, &(x, y)) in pixels.iter().enumerate() {
+        let Some(Seen::Surface(px)) = world.pixel(x, y) else {
+            panic!("pixel ({x}, {y}) sees no surface");
+        };
+        let estimate = |est: &DlEstimator,
+                        pat: &Pattern,
+                        seed: Seed,
+                        vals: &mut Vec<[f32; 2]>,
+                        one: &mut Vec<[f32; 1]>,
+                        scratch: &mut Vec<(f64, f64)>| {
+            pat.fill(seed, vals, one).unwrap();
+            let mut r = seed.pcg(0x0c1e_47a7);
+            world.estimate(&px, est, vals, &mut r, scratch).unwrap()
+        };
+        let rp = Pattern::new(&REFERENCE, 4096).unwrap();
+        let mut rs = RunningStats::new();
+        for r in 0..64 {
+            rs.push(estimate(
+                &REFERENCE,
+                &rp,
+                Seed::new(5).realization(1000 * pi as u64 + r),
+                &mut vals,
+                &mut one,
+                &mut scratch,
+            ));
+        }
+        let (rv, rse) = (rs.mean(), rs.mean_std_error());
+        for (e, est) in ests.iter().enumerate() {
+            let pat = Pattern::new(est, 16).unwrap();
+            let mut s = RunningStats::new();
+            for r in 0..20_000 {
+                s.push(estimate(
+                    est,
+                    &pat,
+                    Seed::new(11).realization(100_000 * pi as u64 + 1000 * e as u64 + r),
+                    &mut vals,
+                    &mut one,
+                    &mut scratch,
+                ));
+            }
+            let se = s.mean_std_error().hypot(rse);
+            let z = (s.mean() - rv) / se;
+            worst = worst.max(z.abs());
+            biggest_se = biggest_se.max(se / rv.abs().max(1e-300));
+            assert!(
+                z.abs() <= 4.5,
+                "pixel ({x}, {y}) {}: mean {} vs reference {rv} ± {rse}: z = {z:.2}",
+                est.label(),
+                s.mean()
+            );
+        }
+        // The f32 SIMD lines agree with the f64 lines on the same offsets.
+        let f64e = ests[7];
+        assert_eq!(f64e.name(), "lines-edge1");
+        let f32e = DlEstimator { simd: true, ..f64e };
+        let pat = Pattern::new(&f64e, 16).unwrap();
+        for r in 0..50 {
+            let seed = Seed::new(13).realization(r);
+            let a = estimate(&f64e, &pat, seed, &mut vals, &mut one, &mut scratch);
+            let b = estimate(&f32e, &pat, seed, &mut vals, &mut one, &mut scratch);
+            assert!(
+                (a - b).abs() <= 1e-5 * a.abs().max(1e-3 * rv.abs()),
+                "pixel ({x}, {y}): f64 lines {a} vs f32 {b}"
+            );
+        }
+        // The orientations must not all be the same estimator in disguise.
+        assert!(ests
+            .iter()
+            .any(|e| e.lines == Some(Orientation::Stratified)));
+    }
+    eprintln!(
+        "84 checks: worst |z| = {worst:.2}; smallest detectable relative bias (4.5 × the \
+         largest relative SE) = {:.2e}",
+        4.5 * biggest_se
+    );
+}
+
+/// Box faces have outward normals `edge1 × edge2` (the lab projects only the
+/// faces turned towards a receiver), for any rotation.
+#[test]
+fn box_faces_point_outwards() {
+    for rot in [0.0, 17.0, -17.0, 90.0, 133.0] {
+        let b = scene::BoxDef {
+            base: [0.3, 0.1, -0.2],
+            size: [0.6, 1.2, 0.4],
+            rotation_deg: rot,
+            albedo: [0.5; 3],
+        };
+        let centre = [0.3, 0.1 + 0.6, -0.2];
+        for (c, e1, e2) in b.faces() {
+            let mid: Vec<f64> = (0..3).map(|k| c[k] + 0.5 * (e1[k] + e2[k])).collect();
+            let n = [
+                e1[1] * e2[2] - e1[2] * e2[1],
+                e1[2] * e2[0] - e1[0] * e2[2],
+                e1[0] * e2[1] - e1[1] * e2[0],
+            ];
+            let out: f64 = (0..3).map(|k| (mid[k] - centre[k]) * n[k]).sum();
+            assert!(
+                out > 0.0,
+                "rotation {rot}: face at {mid:?} has normal {n:?}"
+            );
+        }
+    }
+}
