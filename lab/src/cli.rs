@@ -214,7 +214,7 @@ pub enum Command {
     /// to a 1 % relative error. Cells: the reference, then each row and N.
     ///
     /// Direct light: images of points on the light and lines across it with
-    /// each orientation of the scene (edge1, edge2, angle-<deg>,
+    /// each orientation of the scene (edge1, edge2, angle-DEG (DEG degrees from edge1),
     /// random-per-point, random-per-line, stratified), with --sampler
     /// (default jittered) at N = 1, 4, 16, ..., 16*--n (--n a power of 4),
     /// the reference (4 x 256 jittered lines along edge 1 unless overridden),
