@@ -221,7 +221,7 @@ pub enum Command {
     /// variance images at --n and the map of which fixed orientation wins;
     /// then pixels A and B (the largest variance ratio between the two fixed
     /// orientations, each way, among penumbra pixels) and P1, P2 (a shadow
-    /// edge closest to parallel to each light edge) get a convergence study
+    /// edge closest to parallel to each light edge, when within 2 degrees) get a convergence study
     /// (--pixel-n, --realisations, --samplers: default random and jittered)
     /// into OUT/pixels/, and OUT/orientation.csv gets their slopes. --pixel
     /// X,Y studies that one pixel instead. Jittered patterns are used
