@@ -83,6 +83,17 @@ Pixel (--pixel X,Y): OUT/pixel-X-Y.json with {\"reference\": {\"value\", \"se\",
 OUT/pixel-X-Y.csv, slopes as OUT/pixel-X-Y-slopes.csv, and the curves as
 OUT/pixel-X-Y.svg (uniform centre density).
 
+Direct light (OUT/): reference.png, <estimator>-n<N>.png (equal samples),
+<estimator>-equal-time.png, <estimator>-variance.png (tone-mapped RGB; variance on
+a log scale 8 decades below the mean E squared), orientation-map.png (red: lines
+along edge 1 have the smaller variance, blue: edge 2; A and B marked), sheet.png,
+images.csv (as above), pixels.json (A, B, and P1, P2 with the shadow edge's angle,
+length and turn N*), orientation.csv (pixel,x,y,estimator,slope,slope_ci_low,
+slope_ci_high; jittered), and OUT/pixels/: rows.csv (per pixel, estimator, sampler
+and N: mean, bias z, variance and its SE, seconds per estimate), slopes.csv (fit,
+95 % interval, slope of the last two N, seconds to 1 % relative RMSE),
+convergence-<pixel>.svg, time-to-error-<pixel>.svg, manifest.json.
+
 Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
 `linesample-lab --help`). All files of a run are written as one group at the end.
 
