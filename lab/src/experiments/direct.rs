@@ -715,17 +715,11 @@ impl Images {
     /// A scene that no longer parses, or geometry the kernel refuses.
     pub fn new(config: ImagesConfig) -> Result<Self, String> {
         let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
-        let rows = config.rows_per_cell.max(1);
-        let cells = (0..config.height.div_ceil(rows))
-            .map(|c| {
-                let y0 = c * rows;
-                let y1 = (y0 + rows).min(config.height);
-                CellInfo {
-                    label: format!("rows {y0}..{y1}"),
-                    work: u64::from((y1 - y0) * config.width),
-                }
-            })
-            .collect();
+        let cells = crate::experiments::scene::row_blocks(
+            config.width,
+            config.height,
+            config.rows_per_cell,
+        );
         Ok(Images {
             config,
             world,

@@ -444,17 +444,7 @@ impl Images {
     /// A scene that no longer parses or a sphere the kernel refuses.
     pub fn new(config: ImagesConfig) -> Result<Self, String> {
         let world = World::new(config.source.scene()?, config.width, config.height)?;
-        let rows = config.rows_per_cell.max(1);
-        let cells = (0..config.height.div_ceil(rows))
-            .map(|c| {
-                let y0 = c * rows;
-                let y1 = (y0 + rows).min(config.height);
-                CellInfo {
-                    label: format!("rows {y0}..{y1}"),
-                    work: u64::from((y1 - y0) * config.width),
-                }
-            })
-            .collect();
+        let cells = row_blocks(config.width, config.height, config.rows_per_cell);
         Ok(Images {
             config,
             world,
@@ -601,6 +591,22 @@ fn log_rgb(v: f32, lo: f64, hi: f64) -> [u8; 3] {
         let g = image::log_gray(f64::from(v).max(1e-300), lo, hi);
         [g, g, g]
     }
+}
+
+/// The cells of an image run: blocks of `rows` rows (at least 1) of a
+/// `width × height` image, the last one possibly shorter.
+pub(crate) fn row_blocks(width: u32, height: u32, rows: u32) -> Vec<CellInfo> {
+    let rows = rows.max(1);
+    (0..height.div_ceil(rows))
+        .map(|c| {
+            let y0 = c * rows;
+            let y1 = (y0 + rows).min(height);
+            CellInfo {
+                label: format!("rows {y0}..{y1}"),
+                work: u64::from((y1 - y0) * width),
+            }
+        })
+        .collect()
 }
 
 /// An RGB PNG of `w × h` pixels.
