@@ -15,7 +15,9 @@
 //! * [`HalfPlane`] ([`occlusion`]): the angles a sphere occludes in a
 //!   half-plane through a shading point's normal, and the cosine-weighted
 //!   visible measure of an angle interval (ambient occlusion by spheres in
-//!   closed form, one azimuth at a time).
+//!   closed form, one azimuth at a time);
+//! * [`caustic`]: photon points and photon beams through a glass ball into a
+//!   homogeneous medium, scored in a query ball (volumetric caustics).
 //!
 //! Each has an exact `f64` path (double-double where cancellation would
 //! otherwise lose digits; every method states its error bound) and an `f32`
@@ -52,6 +54,7 @@
 //!
 //! The derivations are in `docs/theory.md` (World-space closed forms).
 
+pub mod caustic;
 pub mod direct_light;
 pub mod direct_light_f32;
 pub mod gaussian;
