@@ -23,6 +23,7 @@
 //!   naming the line and column out).
 
 pub mod ao;
+pub mod caustic_scene;
 pub mod cli;
 mod dims;
 pub mod experiments;

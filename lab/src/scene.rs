@@ -945,9 +945,9 @@ pub(crate) fn unit(a: [f64; 3]) -> [f64; 3] {
     [a[0] / l, a[1] / l, a[2] / l]
 }
 
-struct Ctx<'a> {
-    path: &'a Path,
-    text: &'a str,
+pub(crate) struct Ctx<'a> {
+    pub(crate) path: &'a Path,
+    pub(crate) text: &'a str,
 }
 
 impl Ctx<'_> {
@@ -960,7 +960,7 @@ impl Ctx<'_> {
         (line, col)
     }
 
-    fn at(&self, span: Range<usize>, field: &str, message: String) -> SceneError {
+    pub(crate) fn at(&self, span: Range<usize>, field: &str, message: String) -> SceneError {
         let (line, column) = if span.is_empty() && span.start == 0 {
             (1, 1)
         } else {
@@ -978,7 +978,7 @@ impl Ctx<'_> {
     /// A TOML reader error: the field is the one its message names in
     /// backticks (unknown or missing fields), else the key on the line it
     /// points at.
-    fn toml_error(&self, e: &toml::de::Error) -> SceneError {
+    pub(crate) fn toml_error(&self, e: &toml::de::Error) -> SceneError {
         let span = e.span().unwrap_or(0..0);
         let msg = e.message().trim().to_string();
         let named = msg
@@ -1004,7 +1004,7 @@ impl Ctx<'_> {
         err
     }
 
-    fn finite(&self, field: &str, v: &Spanned<f64>) -> Result<f64, SceneError> {
+    pub(crate) fn finite(&self, field: &str, v: &Spanned<f64>) -> Result<f64, SceneError> {
         let x = *v.get_ref();
         if x.is_finite() {
             Ok(x)
@@ -1037,7 +1037,7 @@ impl Ctx<'_> {
         Ok(x)
     }
 
-    fn names<T: Copy>(
+    pub(crate) fn names<T: Copy>(
         &self,
         field: &str,
         list: &Spanned<Vec<Spanned<String>>>,

@@ -69,6 +69,9 @@
 //! number, which is large only for rays nearly tangent to `Q` or to the
 //! ball.
 
+// `!(x > y)` is deliberate below: it also catches NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 use super::{check_dim, check_finite, check_range, Ray, Sphere};
 use crate::error::ParamError;
 use crate::geom::Direction;

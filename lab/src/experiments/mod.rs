@@ -2,6 +2,7 @@
 //! [`crate::runner`], and returns typed results; printing and files are
 //! separate functions that read those results.
 
+pub mod caustic;
 pub mod convergence;
 pub mod direct;
 pub mod gallery;
@@ -156,6 +157,7 @@ pub fn merge(a: &MergeArgs) -> Result<(), String> {
         scene::PIXEL_KIND => scene::merge_pixel(a, config),
         direct::KIND => direct::merge(a, config),
         direct::PIXEL_KIND => direct::merge_pixel(a, config),
+        caustic::KIND => caustic::merge(a, config),
         other => Err(format!(
             "{}: experiment '{other}' cannot be merged by this lab version",
             first.display()

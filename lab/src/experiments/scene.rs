@@ -1795,6 +1795,9 @@ fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec
 /// # Errors
 /// A scene file error (file, line, field), a bad option, or a run error.
 pub fn main(a: &SceneArgs) -> Result<(), String> {
+    if std::fs::read_to_string(&a.file).is_ok_and(|t| crate::caustic_scene::is_caustic(&t)) {
+        return crate::experiments::caustic::main(a);
+    }
     let (source, scene) = read_source(&a.file)?;
     if scene.effect == Effect::DirectLight {
         let out = a

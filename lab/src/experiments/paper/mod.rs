@@ -535,6 +535,12 @@ pub fn main(a: &PaperArgs) -> Result<(), String> {
             &out.join("direct"),
             &opts,
         )?;
+        crate::experiments::caustic::paper_runs(
+            config.mode,
+            config.seed,
+            &out.join("caustics"),
+            &opts,
+        )?;
     }
     let exp = Paper::new(config)?;
     run_to_files(

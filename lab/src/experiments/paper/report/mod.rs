@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 use std::time::{SystemTime, UNIX_EPOCH};
 
+mod caustic_section;
 mod direct_section;
 mod scene_section;
 mod sections;
@@ -172,6 +173,7 @@ pub fn complete(
     body.push_str(&section_predictions(cfg, &res));
     body.push_str(&scene_section::section_scene(out_dir, cfg.mode)?);
     body.push_str(&direct_section::section_direct(out_dir)?);
+    body.push_str(&caustic_section::section_caustics(out_dir)?);
 
     let reproduce = format!(
         "linesample-lab paper --mode {} --seed {}",
@@ -309,7 +311,7 @@ fn page(cfg: &Config, res: &Results, info: &RunInfo, reproduce: &str, body: &str
     h.push_str(
         "<nav><a href=\"#key\">key results</a><a href=\"#method\">method</a><a href=\"#rates\">1 rates</a><a href=\"#segments\">2 segments</a>\
          <a href=\"#directions\">3 directions</a><a href=\"#offsets\">4 offsets</a><a href=\"#edge\">5 edge</a>\
-         <a href=\"#spectra\">6 spectra</a><a href=\"#cost\">7 cost</a><a href=\"#prediction\">prediction</a><a href=\"#scene\">8 AO scene</a><a href=\"#direct\">9 direct light</a>\
+         <a href=\"#spectra\">6 spectra</a><a href=\"#cost\">7 cost</a><a href=\"#prediction\">prediction</a><a href=\"#scene\">8 AO scene</a><a href=\"#direct\">9 direct light</a><a href=\"#caustics\">10 caustics</a>\
          <a href=\"#files\">files</a></nav>\n",
     );
     h.push_str(&key_results(cfg, res));

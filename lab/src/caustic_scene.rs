@@ -1,0 +1,468 @@
+//! Volumetric-caustic scene files (`scenes/caustic-2d.toml`,
+//! `scenes/caustic-3d.toml`): a point light emitting into a cone above a
+//! glass ball in a homogeneous medium, and the query ball `Q` whose
+//! in-scattered power photon points and photon beams estimate. Nothing else
+//! is simulated: no camera, no surfaces, no other bounces.
+//!
+//! ```toml
+//! [effect]
+//! kind = "volumetric-caustic"
+//! dims = 2                      # 2 (flatland) or 3; every vector has dims entries
+//!
+//! [light]                       # a point light emitting into a cone
+//! position = [0.0, 2.0]
+//! axis = [0.0, -1.0]
+//! cone = 18.0                   # half-angle, degrees, in (0, 180]
+//!
+//! [glass]
+//! centre = [0.0, 0.0]
+//! radius = 0.5
+//! ior = 1.5                     # relative to the medium, in [1, 10]
+//! fresnel = true                # false: every photon refracts in and out
+//! internal-reflections = 2      # with fresnel: reflections inside followed (≤ 8)
+//!
+//! [medium]                      # fills space outside the glass
+//! sigma-s = 0.5
+//! sigma-a = 0.1
+//!
+//! [query]                       # the ball Q scored
+//! centre = [0.05, -1.0]
+//! radius = 0.1
+//!
+//! [fluence]                     # the beam-rendered fluence image
+//! centre = [0.0, -0.5]          # 3D: [x, y, z]; the slice is z = centre[2]
+//! size = [3.0, 3.0]             # width and height in scene units
+//! resolution = [512, 512]
+//! beams = 262144
+//! thickness = 0.02              # 3D only: the slab |z − centre[2]| < thickness/2
+//!
+//! [estimators]                  # optional; the default
+//! samplers = ["random", "jittered"]
+//! ```
+//!
+//! Every mistake is one error naming the file, line, column and field: TOML
+//! syntax, an unknown or missing key, a vector of the wrong length, NaN or
+//! infinity anywhere, a non-positive radius, size or resolution, a zero
+//! axis, a cone out of range, an index below 1, negative coefficients, a
+//! light inside the glass, too many internal reflections, fewer than 1024
+//! fluence beams, a missing `thickness` in 3D (or one given in 2D), and a
+//! sampler that cannot make the estimators' patterns.
+
+use std::path::Path;
+
+use linesample::world::caustic::{
+    Caustic, ConeEmitter, Fresnel, Glass, Medium, MAX_INTERNAL_REFLECTIONS,
+};
+use linesample::world::Sphere;
+use serde::Deserialize;
+use toml::Spanned;
+
+use crate::scene::{Ctx, SceneError, SceneSampler};
+
+/// The `[effect] kind` of a volumetric-caustic scene.
+pub const KIND_NAME: &str = "volumetric-caustic";
+
+/// A checked caustic scene (vectors padded to 3 components; `dims` says how
+/// many count).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CausticScene {
+    /// 2 or 3.
+    pub dims: usize,
+    pub light: [f64; 3],
+    pub axis: [f64; 3],
+    /// Half-angle, degrees.
+    pub cone_deg: f64,
+    pub glass_centre: [f64; 3],
+    pub glass_radius: f64,
+    pub ior: f64,
+    pub fresnel: bool,
+    pub internal_reflections: u32,
+    pub sigma_s: f64,
+    pub sigma_a: f64,
+    pub query_centre: [f64; 3],
+    pub query_radius: f64,
+    pub fluence: FluenceDef,
+    pub samplers: Vec<SceneSampler>,
+}
+
+/// The fluence image's frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FluenceDef {
+    pub centre: [f64; 3],
+    pub size: [f64; 2],
+    pub width: u32,
+    pub height: u32,
+    pub beams: u64,
+    /// 3D: the slab's thickness.
+    pub thickness: Option<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Raw {
+    effect: Spanned<RawEffect>,
+    light: Spanned<RawLight>,
+    glass: Spanned<RawGlass>,
+    medium: Spanned<RawMedium>,
+    query: Spanned<RawQuery>,
+    fluence: Spanned<RawFluence>,
+    estimators: Option<Spanned<RawEstimators>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEffect {
+    kind: Spanned<String>,
+    dims: Spanned<i64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawLight {
+    position: Spanned<Vec<f64>>,
+    axis: Spanned<Vec<f64>>,
+    cone: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawGlass {
+    centre: Spanned<Vec<f64>>,
+    radius: Spanned<f64>,
+    ior: Spanned<f64>,
+    fresnel: Spanned<bool>,
+    internal_reflections: Option<Spanned<i64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, rename_all = "kebab-case")]
+struct RawMedium {
+    sigma_s: Spanned<f64>,
+    sigma_a: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawQuery {
+    centre: Spanned<Vec<f64>>,
+    radius: Spanned<f64>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawFluence {
+    centre: Spanned<Vec<f64>>,
+    size: Spanned<[f64; 2]>,
+    resolution: Spanned<[i64; 2]>,
+    beams: Spanned<i64>,
+    thickness: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawEstimators {
+    samplers: Option<Spanned<Vec<Spanned<String>>>>,
+}
+
+/// Whether the scene text asks for a volumetric caustic (`[effect] kind`),
+/// so the `scene` command reads it with [`parse`] rather than as a
+/// camera scene. A text that does not parse says no (the camera-scene
+/// reader then reports the syntax error).
+#[must_use]
+pub fn is_caustic(text: &str) -> bool {
+    text.parse::<toml::Table>().is_ok_and(|t| {
+        t.get("effect")
+            .and_then(|e| e.get("kind"))
+            .and_then(|k| k.as_str())
+            == Some(KIND_NAME)
+    })
+}
+
+/// Reads and checks a caustic scene file.
+///
+/// # Errors
+/// A [`SceneError`] naming the file, line, column and field.
+pub fn load(path: &Path) -> Result<CausticScene, SceneError> {
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
+        file: path.to_path_buf(),
+        line: 0,
+        column: 0,
+        field: "(file)".into(),
+        message: format!("cannot read it: {e}"),
+    })?;
+    parse(path, &text)
+}
+
+fn vector(
+    ctx: &Ctx<'_>,
+    field: &str,
+    v: &Spanned<Vec<f64>>,
+    dims: usize,
+) -> Result<[f64; 3], SceneError> {
+    let x = v.get_ref();
+    if x.len() != dims {
+        return Err(ctx.at(
+            v.span(),
+            field,
+            format!(
+                "must have {dims} components (dims = {dims}), got {}",
+                x.len()
+            ),
+        ));
+    }
+    if let Some(j) = x.iter().position(|c| !c.is_finite()) {
+        return Err(ctx.at(
+            v.span(),
+            field,
+            format!("component {j} must be a finite number, got {}", x[j]),
+        ));
+    }
+    let mut out = [0.0; 3];
+    out[..dims].copy_from_slice(x);
+    Ok(out)
+}
+
+fn positive(ctx: &Ctx<'_>, field: &str, v: &Spanned<f64>) -> Result<f64, SceneError> {
+    let x = ctx.finite(field, v)?;
+    if x > 0.0 {
+        Ok(x)
+    } else {
+        Err(ctx.at(v.span(), field, format!("must be positive, got {x}")))
+    }
+}
+
+/// Checks the text of a caustic scene file (`path` names it in errors).
+///
+/// # Errors
+/// A [`SceneError`] naming the file, line, column and field.
+pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
+    let ctx = Ctx { path, text };
+    if let Err(e) = text.parse::<toml::Table>() {
+        let mut err = ctx.toml_error(&e);
+        err.field = "TOML syntax".into();
+        return Err(err);
+    }
+    let raw: Raw = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+    let e = raw.effect.get_ref();
+    if e.kind.get_ref() != KIND_NAME {
+        return Err(ctx.at(
+            e.kind.span(),
+            "effect.kind",
+            format!("expected '{KIND_NAME}', got '{}'", e.kind.get_ref()),
+        ));
+    }
+    let dims = match *e.dims.get_ref() {
+        2 => 2,
+        3 => 3,
+        d => {
+            return Err(ctx.at(
+                e.dims.span(),
+                "effect.dims",
+                format!("must be 2 or 3, got {d}"),
+            ))
+        }
+    };
+    let l = raw.light.get_ref();
+    let light = vector(&ctx, "light.position", &l.position, dims)?;
+    let axis = vector(&ctx, "light.axis", &l.axis, dims)?;
+    if axis.iter().all(|&c| c == 0.0) {
+        return Err(ctx.at(l.axis.span(), "light.axis", "is the zero vector".into()));
+    }
+    let cone_deg = ctx.finite("light.cone", &l.cone)?;
+    if !(cone_deg > 1e-9 && cone_deg <= 180.0) {
+        return Err(ctx.at(
+            l.cone.span(),
+            "light.cone",
+            format!("the half-angle must be in (0, 180] degrees, got {cone_deg}"),
+        ));
+    }
+    let g = raw.glass.get_ref();
+    let glass_centre = vector(&ctx, "glass.centre", &g.centre, dims)?;
+    let glass_radius = positive(&ctx, "glass.radius", &g.radius)?;
+    let ior = ctx.finite("glass.ior", &g.ior)?;
+    if !(1.0..=10.0).contains(&ior) {
+        return Err(ctx.at(
+            g.ior.span(),
+            "glass.ior",
+            format!("must be in [1, 10] (relative to the medium), got {ior}"),
+        ));
+    }
+    let fresnel = *g.fresnel.get_ref();
+    let internal_reflections = match &g.internal_reflections {
+        None => 0,
+        Some(k) => {
+            if !fresnel {
+                return Err(ctx.at(
+                    k.span(),
+                    "glass.internal-reflections",
+                    "needs fresnel = true (without Fresnel nothing reflects)".into(),
+                ));
+            }
+            let v = *k.get_ref();
+            if !(0..=i64::from(MAX_INTERNAL_REFLECTIONS)).contains(&v) {
+                return Err(ctx.at(
+                    k.span(),
+                    "glass.internal-reflections",
+                    format!("must be in 0..={MAX_INTERNAL_REFLECTIONS}, got {v}"),
+                ));
+            }
+            v as u32
+        }
+    };
+    let d2: f64 = (0..dims)
+        .map(|j| (light[j] - glass_centre[j]).powi(2))
+        .sum();
+    if d2.sqrt() <= glass_radius {
+        return Err(ctx.at(
+            l.position.span(),
+            "light.position",
+            "is inside the glass (the light must be in the medium)".into(),
+        ));
+    }
+    let m = raw.medium.get_ref();
+    let sigma_s = ctx.finite("medium.sigma-s", &m.sigma_s)?;
+    let sigma_a = ctx.finite("medium.sigma-a", &m.sigma_a)?;
+    for (x, f, sp) in [
+        (sigma_s, "medium.sigma-s", m.sigma_s.span()),
+        (sigma_a, "medium.sigma-a", m.sigma_a.span()),
+    ] {
+        if !(0.0..=1e6).contains(&x) {
+            return Err(ctx.at(sp, f, format!("must be in [0, 1e6], got {x}")));
+        }
+    }
+    if sigma_s <= 0.0 {
+        return Err(ctx.at(
+            m.sigma_s.span(),
+            "medium.sigma-s",
+            "must be positive: a medium that scatters nothing has no caustic".into(),
+        ));
+    }
+    let q = raw.query.get_ref();
+    let query_centre = vector(&ctx, "query.centre", &q.centre, dims)?;
+    let query_radius = positive(&ctx, "query.radius", &q.radius)?;
+    let f = raw.fluence.get_ref();
+    let centre = vector(&ctx, "fluence.centre", &f.centre, dims)?;
+    let size = *f.size.get_ref();
+    if size.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(ctx.at(
+            f.size.span(),
+            "fluence.size",
+            format!("both sides must be positive, got {size:?}"),
+        ));
+    }
+    let [w, h] = *f.resolution.get_ref();
+    for (v, name) in [(w, "width"), (h, "height")] {
+        if !(1..=8192).contains(&v) {
+            return Err(ctx.at(
+                f.resolution.span(),
+                "fluence.resolution",
+                format!("{name} must be in 1..=8192, got {v}"),
+            ));
+        }
+    }
+    let beams = *f.beams.get_ref();
+    if !(1024..=1 << 32).contains(&beams) {
+        return Err(ctx.at(
+            f.beams.span(),
+            "fluence.beams",
+            format!("must be in 1024..=2^32, got {beams}"),
+        ));
+    }
+    let thickness = match (&f.thickness, dims) {
+        (None, 2) => None,
+        (Some(t), 2) => {
+            return Err(ctx.at(
+                t.span(),
+                "fluence.thickness",
+                "is for 3D scenes (the 2D image is the whole plane)".into(),
+            ))
+        }
+        (None, _) => {
+            return Err(ctx.at(
+                raw.fluence.span(),
+                "fluence.thickness",
+                "missing (a 3D fluence image is a slab of this thickness)".into(),
+            ))
+        }
+        (Some(t), _) => Some(positive(&ctx, "fluence.thickness", t)?),
+    };
+    let samplers = match raw
+        .estimators
+        .as_ref()
+        .and_then(|e| e.get_ref().samplers.as_ref())
+    {
+        None => vec![SceneSampler::Random, SceneSampler::Jittered],
+        Some(list) => {
+            let known = [
+                ("random", SceneSampler::Random),
+                ("jittered", SceneSampler::Jittered),
+                ("sobol", SceneSampler::Sobol),
+            ];
+            ctx.names("estimators.samplers", list, &known)?
+        }
+    };
+    let scene = CausticScene {
+        dims,
+        light,
+        axis,
+        cone_deg,
+        glass_centre,
+        glass_radius,
+        ior,
+        fresnel,
+        internal_reflections,
+        sigma_s,
+        sigma_a,
+        query_centre,
+        query_radius,
+        fluence: FluenceDef {
+            centre,
+            size,
+            width: w as u32,
+            height: h as u32,
+            beams: beams as u64,
+            thickness,
+        },
+        samplers,
+    };
+    // The kernel's own checks (ranges it enforces beyond the above).
+    let kernel = if dims == 2 {
+        scene.kernel::<2>().map(|_| ())
+    } else {
+        scene.kernel::<3>().map(|_| ())
+    };
+    kernel.map_err(|e| ctx.at(raw.glass.span(), "(scene)", e))?;
+    Ok(scene)
+}
+
+impl CausticScene {
+    /// The kernel's scene (`D` must be [`CausticScene::dims`]).
+    ///
+    /// # Errors
+    /// A parameter the kernel rejects, or `D ≠ dims`.
+    pub fn kernel<const D: usize>(&self) -> Result<Caustic<D>, String> {
+        if D != self.dims {
+            return Err(format!(
+                "internal error: a {}D scene built as {D}D",
+                self.dims
+            ));
+        }
+        let v = |a: &[f64; 3]| -> [f64; D] { std::array::from_fn(|j| a[j]) };
+        let e = |e: linesample::ParamError| e.to_string();
+        let light =
+            ConeEmitter::<D>::new(v(&self.light), v(&self.axis), self.cone_deg.to_radians())
+                .map_err(e)?;
+        let glass =
+            Glass::<D>::new(v(&self.glass_centre), self.glass_radius, self.ior).map_err(e)?;
+        let medium = Medium::new(self.sigma_s, self.sigma_a).map_err(e)?;
+        let query = Sphere::<D>::new(v(&self.query_centre), self.query_radius).map_err(e)?;
+        let fresnel = if self.fresnel {
+            Fresnel::On {
+                internal_reflections: self.internal_reflections,
+            }
+        } else {
+            Fresnel::Off
+        };
+        Caustic::new(light, glass, medium, query, fresnel).map_err(e)
+    }
+}

@@ -1,0 +1,1211 @@
+//! `scene FILE` for a `volumetric-caustic` scene: photon points against
+//! photon beams ([`linesample::world::caustic`]) for the power a glass
+//! ball focuses into a query ball `Q` of a homogeneous medium, in 2D
+//! (flatland) or 3D. Nothing else is simulated.
+//!
+//! 1. **Fluence image** (not resumable: seconds), into `OUT/`: the beams of
+//!    a jittered pattern of `[fluence] beams` emission samples, each
+//!    integrated in closed form over every pixel it crosses (2D: the plane;
+//!    3D: the slab `|z − z₀| < thickness/2`), as `fluence.png` (log scale,
+//!    the glass and `Q` outlined) and `fluence.json` (frame, peak, total).
+//! 2. **Study** (`KIND`, runner: resumable, shardable; cells: the reference,
+//!    then estimator × sampler × `N`), into `OUT/study/`: `--realisations`
+//!    independent estimates per row, their mean (with its z against the
+//!    reference), variance and time; fitted slopes of variance vs `N` with
+//!    95 % intervals, time to 1 % relative RMSE; `rows.csv`, `slopes.csv`,
+//!    `convergence.svg`, `time-to-error.svg`, and `OUT/caustics.csv`
+//!    (`dims,estimator,sampler,slope,slope_ci_low,slope_ci_high`).
+//!
+//! Patterns: points use `d`-dimensional samples `(u, s)` (emission angles,
+//! then the free-flight variable), beams `(d − 1)`-dimensional `u`. Jittered
+//! patterns of `N = 2^m` samples in `k` dimensions use the most balanced
+//! power-of-two strata (`2^⌊m/k⌋` per axis, `2^⌈m/k⌉` on the last
+//! `m mod k` axes: for points, the free-flight axis) and no shift (they
+//! are unbiased as they are); Sobol′ gets a random toroidal shift per
+//! realisation.
+//!
+//! Seeds: the reference's realisation `r` uses
+//! `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1)).realization(r)`; row `e`
+//! (estimator × sampler, in the order of `rows.csv`) at `N` uses
+//! `Seed::new(Seed::new(SEED).stream(1000·e + N)).realization(r)`; the image
+//! uses `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 2))`. A resumed or sharded
+//! run draws the same numbers, whatever the thread count.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use linesample::stats::RunningStats;
+use linesample::world::caustic::{Caustic, PhotonPath};
+use linesample::Seed;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::caustic_scene::{self, CausticScene};
+use crate::cli::{MergeArgs, SceneArgs};
+use crate::experiments::scene::rgb_png;
+use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
+use crate::figures::multi::{self, Line, Multi, Series};
+use crate::fit::fit_loglog;
+use crate::io::{self, buffer, table, FileGroup};
+use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
+use crate::sampler::{self, DynPattern, PatternSpec};
+use crate::scene::SceneSampler;
+
+/// The study's runner kind.
+pub const KIND: &str = "scene-caustic";
+
+/// Realisations per parallel task.
+const CHUNK: u64 = 16;
+
+/// Photon points or photon beams.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Estimator {
+    /// Sample the emission angles and the free-flight distance.
+    Points,
+    /// Sample the emission angles; integrate along the beam in closed form.
+    Beams,
+}
+
+impl Estimator {
+    /// The name in the output files.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Estimator::Points => "points",
+            Estimator::Beams => "beams",
+        }
+    }
+
+    /// The dimension of its samples in a `dims`-dimensional scene.
+    #[must_use]
+    pub fn sample_dims(self, dims: usize) -> usize {
+        match self {
+            Estimator::Points => dims,
+            Estimator::Beams => dims - 1,
+        }
+    }
+}
+
+/// The scene file as read (so a resumed run refuses a changed file).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CausticSource {
+    pub path: String,
+    pub text: String,
+}
+
+impl CausticSource {
+    /// The checked scene.
+    ///
+    /// # Errors
+    /// The scene file's error.
+    pub fn scene(&self) -> Result<CausticScene, String> {
+        caustic_scene::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    }
+}
+
+/// The kernel scene in its dimension.
+#[derive(Clone, Copy, Debug)]
+pub enum World {
+    Two(Caustic<2>),
+    Three(Caustic<3>),
+}
+
+impl World {
+    /// The scene's kernel form.
+    ///
+    /// # Errors
+    /// A parameter the kernel rejects.
+    pub fn new(scene: &CausticScene) -> Result<Self, String> {
+        Ok(if scene.dims == 2 {
+            World::Two(scene.kernel::<2>()?)
+        } else {
+            World::Three(scene.kernel::<3>()?)
+        })
+    }
+
+    /// The mean of `est` over the samples `x` (each padded to 3 components:
+    /// `u` first, then `s` for points).
+    #[must_use]
+    pub fn estimate(&self, est: Estimator, x: &[[f64; 3]]) -> f64 {
+        let mut sum = 0.0;
+        match (self, est) {
+            (World::Two(c), Estimator::Beams) => {
+                for p in x {
+                    sum += c.beam_sample([p[0], 0.0]);
+                }
+            }
+            (World::Two(c), Estimator::Points) => {
+                for p in x {
+                    sum += c.point_sample([p[0], 0.0], p[1]);
+                }
+            }
+            (World::Three(c), Estimator::Beams) => {
+                for p in x {
+                    sum += c.beam_sample([p[0], p[1]]);
+                }
+            }
+            (World::Three(c), Estimator::Points) => {
+                for p in x {
+                    sum += c.point_sample([p[0], p[1]], p[2]);
+                }
+            }
+        }
+        sum / x.len().max(1) as f64
+    }
+}
+
+/// The most balanced power-of-two strata of `n = 2^m` in `k` dimensions.
+fn strata(n: usize, k: usize) -> Option<Vec<usize>> {
+    if k == 1 {
+        return Some(vec![n]);
+    }
+    if !n.is_power_of_two() {
+        return None;
+    }
+    let m = n.trailing_zeros() as usize;
+    // The finer axes last: for points that is the free-flight variable,
+    // whose band through Q is the narrowest feature.
+    Some(
+        (0..k)
+            .map(|j| 1usize << (m / k + usize::from(j >= k - m % k)))
+            .collect(),
+    )
+}
+
+/// A pattern of `k ∈ {1, 2, 3}` dimensions.
+pub enum Pattern {
+    One(DynPattern<1>),
+    Two(DynPattern<2>),
+    Three(DynPattern<3>),
+}
+
+impl Pattern {
+    /// `sampler`'s pattern of `n` points in `k` dimensions.
+    ///
+    /// # Errors
+    /// A count the sampler cannot make (jittered in 2D or 3D needs a power
+    /// of two).
+    pub fn new(sampler: SceneSampler, k: usize, n: usize) -> Result<Self, String> {
+        let s = sampler.pattern();
+        let mut spec = PatternSpec::simple(s, k, n);
+        if sampler == SceneSampler::Jittered {
+            spec.strata = Some(strata(n, k).ok_or_else(|| {
+                format!("jittered in {k}D needs N a power of two (balanced strata), got {n}")
+            })?);
+        }
+        let shift = sampler == SceneSampler::Sobol;
+        let err = |e: String| format!("{} in {k}D with N = {n}: {e}", sampler.name());
+        Ok(match k {
+            1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),
+            2 => Pattern::Two(sampler::build::<2>(&spec, shift).map_err(err)?.pattern),
+            3 => Pattern::Three(sampler::build::<3>(&spec, shift).map_err(err)?.pattern),
+            _ => return Err(format!("internal error: a {k}D pattern")),
+        })
+    }
+
+    /// Realisation `seed` into `out` (resized to `n`).
+    ///
+    /// # Errors
+    /// The pattern's error.
+    pub fn fill(&self, seed: Seed, n: usize, out: &mut Vec<[f64; 3]>) -> Result<(), String> {
+        out.clear();
+        let e = |e: linesample::PatternError| e.to_string();
+        match self {
+            Pattern::One(p) => {
+                let mut v = vec![[0.0f32; 1]; n];
+                p.fill(seed, &mut v).map_err(e)?;
+                out.extend(v.iter().map(|x| [f64::from(x[0]), 0.0, 0.0]));
+            }
+            Pattern::Two(p) => {
+                let mut v = vec![[0.0f32; 2]; n];
+                p.fill(seed, &mut v).map_err(e)?;
+                out.extend(v.iter().map(|x| [f64::from(x[0]), f64::from(x[1]), 0.0]));
+            }
+            Pattern::Three(p) => {
+                let mut v = vec![[0.0f32; 3]; n];
+                p.fill(seed, &mut v).map_err(e)?;
+                out.extend(
+                    v.iter()
+                        .map(|x| [f64::from(x[0]), f64::from(x[1]), f64::from(x[2])]),
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+// ---------------------------------------------------------------- study
+
+/// The study, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudyConfig {
+    pub source: CausticSource,
+    pub seed: u64,
+    pub ns: Vec<usize>,
+    pub realisations: u64,
+    /// `(estimator, sampler)` rows.
+    pub rows: Vec<(Estimator, SceneSampler)>,
+    /// Jittered beams per reference estimate.
+    pub reference_beams: usize,
+    pub reference_realisations: u64,
+}
+
+/// One cell's statistics.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StudyCell {
+    pub count: u64,
+    pub moments: [f64; 4],
+    /// Seconds per estimate (one thread).
+    pub seconds: f64,
+}
+
+/// The study experiment.
+pub struct Study {
+    config: StudyConfig,
+    dims: usize,
+    world: World,
+    cells: Vec<CellInfo>,
+}
+
+impl Study {
+    /// The experiment of `config`.
+    ///
+    /// # Errors
+    /// A bad scene or a count a sampler cannot make.
+    pub fn new(config: StudyConfig) -> Result<Self, String> {
+        let scene = config.source.scene()?;
+        let world = World::new(&scene)?;
+        let dims = scene.dims;
+        if config.ns.is_empty() || config.rows.is_empty() {
+            return Err("the study needs at least one N and one estimator".into());
+        }
+        let mut cells = vec![CellInfo {
+            label: "reference".into(),
+            work: config.reference_realisations,
+        }];
+        Pattern::new(
+            SceneSampler::Jittered,
+            Estimator::Beams.sample_dims(dims),
+            config.reference_beams,
+        )
+        .map_err(|e| format!("--reference-lines: {e}"))?;
+        for (est, sampler) in &config.rows {
+            for &n in &config.ns {
+                Pattern::new(*sampler, est.sample_dims(dims), n)
+                    .map_err(|e| format!("--pixel-n: {} {e}", est.name()))?;
+                cells.push(CellInfo {
+                    label: format!("{} {} N={n}", est.name(), sampler.name()),
+                    work: config.realisations,
+                });
+            }
+        }
+        Ok(Study {
+            config,
+            dims,
+            world,
+            cells,
+        })
+    }
+}
+
+fn reference_seed(seed: u64) -> Seed {
+    Seed::new(Seed::new(seed).stream(u64::MAX))
+}
+
+fn image_seed(seed: u64) -> Seed {
+    Seed::new(Seed::new(seed).stream(u64::MAX - 1))
+}
+
+fn row_seed(seed: u64, e: usize, n: usize) -> Seed {
+    Seed::new(Seed::new(seed).stream(1000 * e as u64 + n as u64))
+}
+
+impl Experiment for Study {
+    type Config = StudyConfig;
+    type Cell = StudyCell;
+    const KIND: &'static str = KIND;
+    const UNIT: &'static str = "realisations";
+
+    fn config(&self) -> &StudyConfig {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<StudyCell, String> {
+        let cfg = &self.config;
+        let (est, sampler, n, seed, total) = if index == 0 {
+            (
+                Estimator::Beams,
+                SceneSampler::Jittered,
+                cfg.reference_beams,
+                reference_seed(cfg.seed),
+                cfg.reference_realisations,
+            )
+        } else {
+            let (e, i) = ((index - 1) / cfg.ns.len(), (index - 1) % cfg.ns.len());
+            let (est, sampler) = cfg.rows[e];
+            (
+                est,
+                sampler,
+                cfg.ns[i],
+                row_seed(cfg.seed, e, cfg.ns[i]),
+                cfg.realisations,
+            )
+        };
+        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n)?;
+        let chunks = total.div_ceil(CHUNK);
+        let parts = ctx.map_ordered(
+            chunks as usize,
+            |c| -> Result<(RunningStats, f64), String> {
+                let mut x = buffer::empty(n, "samples")?;
+                let mut rs = RunningStats::new();
+                let t = Instant::now();
+                let r0 = c as u64 * CHUNK;
+                for r in r0..(r0 + CHUNK).min(total) {
+                    pattern.fill(seed.realization(r), n, &mut x)?;
+                    rs.push(self.world.estimate(est, &x));
+                }
+                ctx.advance(rs.count());
+                Ok((rs, t.elapsed().as_secs_f64()))
+            },
+        )?;
+        let mut rs = RunningStats::new();
+        let mut secs = 0.0;
+        for (s, t) in parts {
+            rs.merge(&s);
+            secs += t;
+        }
+        let (count, moments) = rs.parts();
+        Ok(StudyCell {
+            count,
+            moments,
+            seconds: secs / count.max(1) as f64,
+        })
+    }
+}
+
+/// The expected slope of variance vs `N` for `est` with `sampler` in a
+/// `dims`-dimensional scene, and why; `None` where no rate is claimed.
+#[must_use]
+pub fn expected(dims: usize, est: Estimator, sampler: SceneSampler) -> Option<(f64, &'static str)> {
+    match (sampler, est, dims) {
+        (SceneSampler::Random, _, _) => Some((-1.0, "independent samples: N^-1")),
+        (SceneSampler::Jittered, Estimator::Points, 2) => Some((
+            -1.5,
+            "2D jitter across the edges of Q in (angle, distance): N^-(1+1/2)",
+        )),
+        (SceneSampler::Jittered, Estimator::Points, _) => Some((
+            -4.0 / 3.0,
+            "3D jitter across the surface of Q in (angles, distance): N^-(1+1/3)",
+        )),
+        (SceneSampler::Jittered, Estimator::Beams, 2) => Some((
+            -3.0,
+            "1D jitter of a continuous beam function with square-root edges at Q: N^-3 ln N",
+        )),
+        (SceneSampler::Jittered, Estimator::Beams, _) => Some((
+            -2.0,
+            "2D jitter of a continuous beam function with square-root edges along curves: N^-2 ln N",
+        )),
+        _ => None,
+    }
+}
+
+/// How many of the largest `N` the headline slope fits.
+pub const TAIL: usize = 3;
+
+/// The range of slopes to expect when fitting around `n`: [`expected`],
+/// and for beams with jitter up to the logarithm's share. A ball `Q` cuts
+/// the beam function with square-root edges (the chord `2√(r² − p²)` near
+/// tangency), whose derivative `∝ 1/√x` makes the strata next to an edge
+/// add `Σ_k 1/k ∝ ln N`: variance `N^−3 (A + c ln N)` (2D) or
+/// `N^−2 (A + c ln N)` (3D), whose local slope lies between the rate and
+/// the rate `+ 1/ln N` (all of it when the edge term dominates).
+#[must_use]
+pub fn effective(dims: usize, est: Estimator, sampler: SceneSampler, n: f64) -> Option<(f64, f64)> {
+    let (e, _) = expected(dims, est, sampler)?;
+    Some(
+        if est == Estimator::Beams && sampler == SceneSampler::Jittered {
+            (e, e + 1.0 / n.ln())
+        } else {
+            (e, e)
+        },
+    )
+}
+
+/// Slack added to a slope's 95 % interval before it is called consistent
+/// with the expectation (as the report's other sections do).
+pub const SLOPE_SLACK: f64 = 0.15;
+
+/// Whether the interval `[lo, hi]` (widened by [`SLOPE_SLACK`]) meets the
+/// expected range `[a, b]`.
+#[must_use]
+pub fn consistent(lo: f64, hi: f64, a: f64, b: f64) -> bool {
+    lo - SLOPE_SLACK <= b && hi + SLOPE_SLACK >= a
+}
+
+/// A row of `OUT/study/rows.csv`.
+#[derive(Serialize)]
+struct Row {
+    estimator: &'static str,
+    sampler: &'static str,
+    n: usize,
+    realisations: u64,
+    #[serde(serialize_with = "table::sci")]
+    mean: f64,
+    #[serde(serialize_with = "table::sci")]
+    bias_z: f64,
+    #[serde(serialize_with = "table::sci")]
+    variance: f64,
+    #[serde(serialize_with = "table::sci")]
+    variance_se: f64,
+    #[serde(serialize_with = "table::sci")]
+    seconds_per_estimate: f64,
+}
+
+/// A row of `OUT/caustics.csv`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct CausticsRow {
+    pub dims: usize,
+    pub estimator: String,
+    pub sampler: String,
+    pub slope: f64,
+    pub slope_ci_low: f64,
+    pub slope_ci_high: f64,
+}
+
+/// A row of `OUT/study/slopes.csv`: the fit and what follows from it.
+#[derive(Serialize)]
+struct SlopeRow {
+    dims: usize,
+    estimator: &'static str,
+    sampler: &'static str,
+    #[serde(serialize_with = "table::sci")]
+    slope: f64,
+    #[serde(serialize_with = "table::sci")]
+    slope_ci_low: f64,
+    #[serde(serialize_with = "table::sci")]
+    slope_ci_high: f64,
+    /// The asymptotic rate.
+    #[serde(serialize_with = "table::sci")]
+    expected: f64,
+    /// The other end of the expected range: the rate with its logarithm
+    /// at the fitted range's middle `N` ([`effective`]).
+    #[serde(serialize_with = "table::sci")]
+    expected_with_log: f64,
+    /// Fit over every `N`.
+    #[serde(serialize_with = "table::sci")]
+    slope_all: f64,
+    /// Slope between the two largest `N`.
+    #[serde(serialize_with = "table::sci")]
+    last_slope: f64,
+    /// Largest `|bias_z|` over the row's `N`.
+    #[serde(serialize_with = "table::sci")]
+    max_abs_bias_z: f64,
+    /// `N` for a 1 % relative RMSE, read off the fit.
+    #[serde(serialize_with = "table::sci")]
+    n_to_1pct: f64,
+    /// Seconds to a 1 % relative RMSE (one thread).
+    #[serde(serialize_with = "table::sci")]
+    seconds_to_1pct: f64,
+}
+
+/// The study's completion: `study/rows.csv`, `study/slopes.csv`, plots, and
+/// `caustics.csv` one folder up.
+///
+/// # Errors
+/// An output error.
+pub fn complete_study(
+    exp: &Study,
+    cells: Vec<StudyCell>,
+    info: &RunInfo,
+    dir: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let cfg = &exp.config;
+    let dims = exp.dims;
+    let st = |c: &StudyCell| {
+        RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
+    };
+    let r = st(&cells[0])?;
+    let (rv, rse) = (r.mean(), r.mean_std_error());
+    let mut text = format!(
+        "{dims}D caustic: reference Φ_Q = {rv:.8e} ± {rse:.1e} ({} x {} jittered beams)\n",
+        cfg.reference_realisations, cfg.reference_beams
+    );
+    let mut rows = Vec::new();
+    let mut slopes = Vec::new();
+    let mut caustics = Vec::new();
+    let mut series = Vec::new();
+    let mut time_series = Vec::new();
+    for (e, &(est, sampler)) in cfg.rows.iter().enumerate() {
+        let mut pts = Vec::new();
+        let mut secs = Vec::new();
+        let mut zmax = 0.0f64;
+        for (i, &n) in cfg.ns.iter().enumerate() {
+            let c = &cells[1 + e * cfg.ns.len() + i];
+            let s = st(c)?;
+            let z = (s.mean() - rv) / s.mean_std_error().hypot(rse);
+            zmax = zmax.max(z.abs());
+            rows.push(Row {
+                estimator: est.name(),
+                sampler: sampler.name(),
+                n,
+                realisations: s.count(),
+                mean: s.mean(),
+                bias_z: z,
+                variance: s.variance(),
+                variance_se: s.variance_std_error(),
+                seconds_per_estimate: c.seconds,
+            });
+            pts.push((n as f64, s.variance(), s.variance_std_error()));
+            secs.push(c.seconds);
+        }
+        // The headline fit: the largest TAIL values of N, where the strata
+        // are finer than the features of Q's preimage (the smaller N show
+        // the pre-asymptotic approach; `slope_all` fits every N).
+        let m = pts.len();
+        let tail = &pts[m.saturating_sub(TAIL)..];
+        let fit = fit_loglog(tail);
+        let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
+        let slope_all = fit_loglog(&pts).map_or(f64::NAN, |f| f.slope);
+        let last = if m >= 2 {
+            (pts[m - 1].1 / pts[m - 2].1).ln() / (pts[m - 1].0 / pts[m - 2].0).ln()
+        } else {
+            f64::NAN
+        };
+        let n1 = fit.map_or(f64::NAN, |f| {
+            let target = (0.01 * rv) * (0.01 * rv);
+            ((target.ln() - f.intercept) / f.slope).exp().max(1.0)
+        });
+        let t1 = n1 * secs[m - 1] / pts[m - 1].0;
+        let n_mid = (tail.iter().map(|p| p.0.ln()).sum::<f64>() / tail.len() as f64).exp();
+        let exp_slope = expected(dims, est, sampler).map_or(f64::NAN, |x| x.0);
+        let (exp_lo, exp_hi) = effective(dims, est, sampler, n_mid).unwrap_or((f64::NAN, f64::NAN));
+        let exp_text = if exp_lo == exp_hi {
+            format!("{exp_lo:+.2}")
+        } else {
+            format!("{exp_lo:+.2} … {exp_hi:+.2}")
+        };
+        let label = format!("{} {}", est.name(), sampler.name());
+        let _ = writeln!(
+            text,
+            "  {label:<18} slope {slope:+.2} [{:+.2}, {:+.2}] (expected {exp_text})  \
+             all N {slope_all:+.2}  max |z| {zmax:.2}  1 %: N ≈ {n1:.3e}, {t1:.2e} s",
+            slope - 1.96 * se,
+            slope + 1.96 * se,
+        );
+        slopes.push(SlopeRow {
+            dims,
+            estimator: est.name(),
+            sampler: sampler.name(),
+            slope,
+            slope_ci_low: slope - 1.96 * se,
+            slope_ci_high: slope + 1.96 * se,
+            expected: exp_slope,
+            expected_with_log: exp_hi,
+            slope_all,
+            last_slope: last,
+            max_abs_bias_z: zmax,
+            n_to_1pct: n1,
+            seconds_to_1pct: t1,
+        });
+        caustics.push(CausticsRow {
+            dims,
+            estimator: est.name().into(),
+            sampler: sampler.name().into(),
+            slope,
+            slope_ci_low: slope - 1.96 * se,
+            slope_ci_high: slope + 1.96 * se,
+        });
+        let (x0, x1) = (pts[0].0, pts[m - 1].0);
+        time_series.push(Series {
+            label: label.clone(),
+            points: pts
+                .iter()
+                .zip(&secs)
+                .map(|(&(_, v, vse), &t)| (t, v.sqrt() / rv, 0.5 * vse / v.sqrt() / rv))
+                .collect(),
+            joined: true,
+            ..Series::default()
+        });
+        series.push(Series {
+            label,
+            points: pts,
+            fit: fit.map(|f| Line {
+                a: f.intercept,
+                slope: f.slope,
+                log_power: 0,
+                x0,
+                x1,
+            }),
+            ..Series::default()
+        });
+    }
+    let mut group = FileGroup::new();
+    let title = format!("{dims}D volumetric caustic: variance vs N");
+    let svg = multi::multi(&Multi {
+        title: &title,
+        subtitle: "photon points vs photon beams; solid: fitted power law",
+        x_label: "N (photons per estimate)",
+        y_label: "variance of the in-scattered power",
+        series: &series,
+        log_x: true,
+    })?;
+    group.add_bytes(dir.join("convergence.svg"), svg.as_bytes())?;
+    let title = format!("{dims}D volumetric caustic: error vs time");
+    let svg = multi::multi(&Multi {
+        title: &title,
+        subtitle: "relative RMSE of one estimate against its time (one thread)",
+        x_label: "seconds per estimate",
+        y_label: "relative RMSE",
+        series: &time_series,
+        log_x: true,
+    })?;
+    group.add_bytes(dir.join("time-to-error.svg"), svg.as_bytes())?;
+    let comments = vec![format!(
+        "scene {}; {} realisations per row; reference {rv:.10e} ± {rse:.2e}; \
+         bias_z = (mean − reference)/combined SE",
+        cfg.source.path, cfg.realisations
+    )];
+    group.add_bytes(dir.join("rows.csv"), &table::csv(&comments, &rows)?)?;
+    group.add_bytes(dir.join("slopes.csv"), &table::csv(&comments, &slopes)?)?;
+    let parent = dir.parent().unwrap_or(dir);
+    group.add_bytes(
+        parent.join("caustics.csv"),
+        &table::csv(
+            &[format!(
+                "slopes of variance vs N with 95 % intervals, fitted over the {TAIL} largest N \
+                 (study/slopes.csv also fits every N)"
+            )],
+            &caustics,
+        )?,
+    )?;
+    let mut files: Vec<String> = group.targets().map(file_name).collect();
+    files.push("manifest.json".into());
+    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files);
+    group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
+    group.commit()?;
+    if !quiet {
+        crate::out!("{}", text.trim_end());
+        crate::out!("wrote {}", parent.join("caustics.csv").display());
+    }
+    Ok(())
+}
+
+fn reproduce(cfg: &StudyConfig) -> String {
+    format!(
+        "linesample-lab scene {} --pixel-n {} --realisations {} --reference-lines {} \
+         --reference-realisations {} --seed {}",
+        cfg.source.path,
+        cfg.ns
+            .iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join(","),
+        cfg.realisations,
+        cfg.reference_beams,
+        cfg.reference_realisations,
+        cfg.seed
+    )
+}
+
+// ---------------------------------------------------------------- image
+
+/// The fluence image's pixel grid (the plane, or the slab's `x, y`).
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    x0: f64,
+    y0: f64,
+    px: f64,
+    py: f64,
+    w: usize,
+    h: usize,
+}
+
+/// Adds the scattered power of the ray `o + t·d`, `t ∈ [t0, t1]` (medium
+/// offset `tau`, weight `w`), to every pixel it crosses: per pixel interval
+/// `[ta, tb]`, `w e^{−σ_t(τ + ta)}(1 − e^{−σ_t(tb − ta)})` (Amanatides & Woo
+/// 1987 grid traversal). Only the `x, y` components of `o` and `d` are used.
+// `!(hi > lo)` also catches NaN.
+#[allow(clippy::too_many_arguments, clippy::neg_cmp_op_on_partial_ord)]
+fn splat(
+    grid: &mut [f64],
+    f: &Frame,
+    o: [f64; 2],
+    d: [f64; 2],
+    t0: f64,
+    t1: f64,
+    tau: f64,
+    w: f64,
+    st: f64,
+) {
+    // Clip to the frame (slab method).
+    let (mut lo, mut hi) = (t0, t1);
+    let bounds = [
+        (f.x0, f.x0 + f.px * f.w as f64),
+        (f.y0, f.y0 + f.py * f.h as f64),
+    ];
+    for j in 0..2 {
+        let (a, b) = bounds[j];
+        if d[j] == 0.0 {
+            if !(o[j] >= a && o[j] < b) {
+                return;
+            }
+        } else {
+            let (ta, tb) = ((a - o[j]) / d[j], (b - o[j]) / d[j]);
+            lo = lo.max(ta.min(tb));
+            hi = hi.min(ta.max(tb));
+        }
+    }
+    if !(hi > lo) {
+        return;
+    }
+    let cell = |j: usize, t: f64| -> i64 {
+        let (origin, size, n) = if j == 0 {
+            (f.x0, f.px, f.w)
+        } else {
+            (f.y0, f.py, f.h)
+        };
+        (((o[j] + t * d[j] - origin) / size).floor() as i64).clamp(0, n as i64 - 1)
+    };
+    // On a grid line the floor may name the cell behind: its interval is
+    // empty and the traversal steps on.
+    let mut idx = [cell(0, lo), cell(1, lo)];
+    let sizes = [f.px, f.py];
+    let origins = [f.x0, f.y0];
+    let mut t_max = [f64::INFINITY; 2];
+    let mut t_delta = [f64::INFINITY; 2];
+    let mut step = [0i64; 2];
+    for j in 0..2 {
+        if d[j] > 0.0 {
+            step[j] = 1;
+            t_max[j] = (origins[j] + (idx[j] + 1) as f64 * sizes[j] - o[j]) / d[j];
+            t_delta[j] = sizes[j] / d[j];
+        } else if d[j] < 0.0 {
+            step[j] = -1;
+            t_max[j] = (origins[j] + idx[j] as f64 * sizes[j] - o[j]) / d[j];
+            t_delta[j] = -sizes[j] / d[j];
+        }
+    }
+    let mut t = lo;
+    loop {
+        let tn = t_max[0].min(t_max[1]).min(hi);
+        if tn > t {
+            let row = f.h - 1 - idx[1] as usize;
+            grid[row * f.w + idx[0] as usize] +=
+                w * (-st * (tau + t)).exp() * -(-st * (tn - t)).exp_m1();
+            t = tn;
+        }
+        if t >= hi {
+            return;
+        }
+        let j = usize::from(t_max[1] < t_max[0]);
+        idx[j] += step[j];
+        if idx[j] < 0 || idx[j] >= if j == 0 { f.w } else { f.h } as i64 {
+            return;
+        }
+        t_max[j] += t_delta[j];
+    }
+}
+
+/// Splats every segment of `path` (2D).
+fn splat_path2(grid: &mut [f64], f: &Frame, path: &PhotonPath<2>, st: f64) {
+    for s in path.segments() {
+        let (o, d) = (s.ray.origin(), s.ray.dir().get());
+        splat(grid, f, o, d, 0.0, s.length, s.start, s.weight, st);
+    }
+}
+
+/// Splats every segment of `path` clipped to the slab `|z − z0| < half` (3D).
+fn splat_path3(grid: &mut [f64], f: &Frame, path: &PhotonPath<3>, st: f64, z0: f64, half: f64) {
+    for s in path.segments() {
+        let (o, d) = (s.ray.origin(), s.ray.dir().get());
+        let (mut lo, mut hi) = (0.0f64, s.length);
+        if d[2] == 0.0 {
+            if (o[2] - z0).abs() >= half {
+                continue;
+            }
+        } else {
+            let ta = (z0 - half - o[2]) / d[2];
+            let tb = (z0 + half - o[2]) / d[2];
+            lo = lo.max(ta.min(tb));
+            hi = hi.min(ta.max(tb));
+        }
+        if hi > lo {
+            splat(
+                grid,
+                f,
+                [o[0], o[1]],
+                [d[0], d[1]],
+                lo,
+                hi,
+                s.start,
+                s.weight,
+                st,
+            );
+        }
+    }
+}
+
+/// `fluence.json`.
+#[derive(Serialize)]
+struct FluenceSummary<'a> {
+    scene: &'a str,
+    dims: usize,
+    beams: u64,
+    width: usize,
+    height: usize,
+    /// Scene coordinates of the image's lower-left corner and pixel size.
+    x0: f64,
+    y0: f64,
+    pixel: [f64; 2],
+    /// 3D: the slab.
+    slab: Option<[f64; 2]>,
+    /// Power scattered per unit volume (area in 2D) per unit emitted power,
+    /// `σ_s·φ`: the brightest pixel and where it is.
+    peak: f64,
+    peak_at: [f64; 2],
+    /// Power scattered inside the image (per unit emitted power).
+    total_in_image: f64,
+    seconds: f64,
+}
+
+/// A perceptual dark-to-bright colour ramp (black, purple, orange, yellow,
+/// white), `v ∈ [0, 1]`.
+fn ramp(v: f64) -> [u8; 3] {
+    const STOPS: [(f64, [f64; 3]); 5] = [
+        (0.0, [0.0, 0.0, 0.02]),
+        (0.3, [0.33, 0.06, 0.43]),
+        (0.6, [0.87, 0.32, 0.18]),
+        (0.85, [0.99, 0.75, 0.15]),
+        (1.0, [1.0, 1.0, 0.9]),
+    ];
+    let v = v.clamp(0.0, 1.0);
+    let mut k = 0;
+    while k + 2 < STOPS.len() && v > STOPS[k + 1].0 {
+        k += 1;
+    }
+    let (a, ca) = STOPS[k];
+    let (b, cb) = STOPS[k + 1];
+    let t = ((v - a) / (b - a)).clamp(0.0, 1.0);
+    std::array::from_fn(|j| ((ca[j] + t * (cb[j] - ca[j])) * 255.0).round() as u8)
+}
+
+/// Renders the fluence image into `out` (`fluence.png`, `fluence.json`).
+///
+/// # Errors
+/// A pattern, allocation or output error.
+pub fn run_image(
+    source: &CausticSource,
+    resolution: Option<(u32, u32)>,
+    beams: Option<u64>,
+    seed: u64,
+    out: &Path,
+    quiet: bool,
+) -> Result<(), String> {
+    let scene = source.scene()?;
+    let world = World::new(&scene)?;
+    let fl = &scene.fluence;
+    let (w, h) = resolution.unwrap_or((fl.width, fl.height));
+    let (w, h) = (w as usize, h as usize);
+    let f = Frame {
+        x0: fl.centre[0] - 0.5 * fl.size[0],
+        y0: fl.centre[1] - 0.5 * fl.size[1],
+        px: fl.size[0] / w as f64,
+        py: fl.size[1] / h as f64,
+        w,
+        h,
+    };
+    let m = usize::try_from(beams.unwrap_or(fl.beams))
+        .map_err(|_| "fluence.beams: too many for this machine")?;
+    let k = scene.dims - 1;
+    let m = if k == 2 {
+        // A power of two for balanced strata.
+        m.next_power_of_two()
+    } else {
+        m
+    };
+    let t = Instant::now();
+    let pattern = Pattern::new(SceneSampler::Jittered, k, m)?;
+    let mut x = buffer::empty(m, "fluence beams")?;
+    pattern.fill(image_seed(seed), m, &mut x)?;
+    let st = scene.sigma_s + scene.sigma_a;
+    let albedo = scene.sigma_s / st;
+    const PARTS: usize = 16;
+    let per = m.div_ceil(PARTS);
+    let parts: Vec<Result<Vec<f64>, String>> = x
+        .par_chunks(per)
+        .map(|chunk| {
+            let mut grid = buffer::filled(w * h, 0.0f64, "fluence image")?;
+            match &world {
+                World::Two(c) => {
+                    for p in chunk {
+                        splat_path2(&mut grid, &f, &c.path([p[0], 0.0]), st);
+                    }
+                }
+                World::Three(c) => {
+                    let half = 0.5 * fl.thickness.unwrap_or(0.0);
+                    for p in chunk {
+                        splat_path3(&mut grid, &f, &c.path([p[0], p[1]]), st, fl.centre[2], half);
+                    }
+                }
+            }
+            Ok(grid)
+        })
+        .collect();
+    let mut grid = buffer::filled(w * h, 0.0f64, "fluence image")?;
+    for p in parts {
+        for (g, v) in grid.iter_mut().zip(p?) {
+            *g += v;
+        }
+    }
+    let cell = f.px * f.py * fl.thickness.unwrap_or(1.0);
+    let scale = albedo / (m as f64 * cell);
+    let mut total = 0.0;
+    let (mut peak, mut at) = (0.0f64, 0usize);
+    for (i, g) in grid.iter_mut().enumerate() {
+        total += *g * albedo / m as f64;
+        *g *= scale;
+        if *g > peak {
+            peak = *g;
+            at = i;
+        }
+    }
+    let seconds = t.elapsed().as_secs_f64();
+    // Log scale over four decades below the peak.
+    let lo = peak * 1e-4;
+    let mut px: Vec<[u8; 3]> = grid
+        .iter()
+        .map(|&g| {
+            if g <= lo || peak <= 0.0 {
+                ramp(0.0)
+            } else {
+                ramp((g / lo).log10() / 4.0)
+            }
+        })
+        .collect();
+    // Outlines: the glass (grey) and Q (cyan), where the image plane cuts them.
+    let slice_r = |c: &[f64; 3], r: f64| -> f64 {
+        if scene.dims == 3 {
+            let dz = c[2] - fl.centre[2];
+            (r * r - dz * dz).max(0.0).sqrt()
+        } else {
+            r
+        }
+    };
+    let outlines = [
+        (
+            scene.glass_centre,
+            slice_r(&scene.glass_centre, scene.glass_radius),
+            [150u8, 150, 150],
+        ),
+        (
+            scene.query_centre,
+            slice_r(&scene.query_centre, scene.query_radius),
+            [60, 220, 255],
+        ),
+    ];
+    for row in 0..h {
+        for col in 0..w {
+            let xc = f.x0 + (col as f64 + 0.5) * f.px;
+            let yc = f.y0 + ((h - 1 - row) as f64 + 0.5) * f.py;
+            for (c, r, colour) in &outlines {
+                if *r > 0.0 {
+                    let d = ((xc - c[0]).powi(2) + (yc - c[1]).powi(2)).sqrt();
+                    if (d - r).abs() < 0.6 * f.px.max(f.py) {
+                        px[row * w + col] = *colour;
+                    }
+                }
+            }
+        }
+    }
+    let (prow, pcol) = (at / w, at % w);
+    let summary = FluenceSummary {
+        scene: &source.path,
+        dims: scene.dims,
+        beams: m as u64,
+        width: w,
+        height: h,
+        x0: f.x0,
+        y0: f.y0,
+        pixel: [f.px, f.py],
+        slab: fl
+            .thickness
+            .map(|t| [fl.centre[2] - 0.5 * t, fl.centre[2] + 0.5 * t]),
+        peak,
+        peak_at: [
+            f.x0 + (pcol as f64 + 0.5) * f.px,
+            f.y0 + ((h - 1 - prow) as f64 + 0.5) * f.py,
+        ],
+        total_in_image: total,
+        seconds,
+    };
+    let mut group = FileGroup::new();
+    group.add_bytes(out.join("fluence.png"), &rgb_png(w as u32, h as u32, &px)?)?;
+    group.add_bytes(out.join("fluence.json"), &io::json(&summary)?)?;
+    group.commit()?;
+    if !quiet {
+        crate::out!(
+            "fluence image: {m} beams, {w}x{h}, peak σ_s·φ = {peak:.3e} at ({:.3}, {:.3}), \
+             {seconds:.2} s; wrote {}",
+            summary.peak_at[0],
+            summary.peak_at[1],
+            out.join("fluence.png").display()
+        );
+    }
+    Ok(())
+}
+
+// ---------------------------------------------------------------- entry
+
+/// Where `scene FILE` writes by default.
+#[must_use]
+pub fn default_out(file: &Path) -> PathBuf {
+    crate::experiments::direct::default_out(file)
+}
+
+/// The study rows of a scene: its samplers × (points, beams).
+#[must_use]
+pub fn study_rows(samplers: &[SceneSampler]) -> Vec<(Estimator, SceneSampler)> {
+    samplers
+        .iter()
+        .flat_map(|&s| [(Estimator::Points, s), (Estimator::Beams, s)])
+        .collect()
+}
+
+/// `linesample-lab scene FILE` for a volumetric-caustic scene.
+///
+/// # Errors
+/// A scene error, a bad option or a run error.
+pub fn main(a: &SceneArgs) -> Result<(), String> {
+    let scene = caustic_scene::load(&a.file).map_err(|e| e.to_string())?;
+    let text =
+        std::fs::read_to_string(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
+    let source = CausticSource {
+        path: a.file.display().to_string(),
+        text,
+    };
+    if a.pixel.is_some() {
+        return Err("--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into());
+    }
+    let out = a.out.clone().unwrap_or_else(|| default_out(&a.file));
+    let opts = a.run.options();
+    let samplers = a.samplers.clone().unwrap_or_else(|| scene.samplers.clone());
+    run_all(
+        source,
+        a.resolution,
+        None,
+        a.run.seed,
+        a.pixel_n.clone(),
+        a.realisations,
+        study_rows(&samplers),
+        a.reference_lines.unwrap_or(1 << 16),
+        a.reference_realisations.unwrap_or(64),
+        &out,
+        &opts,
+    )
+}
+
+/// The image (unless sharded), then the study.
+///
+/// # Errors
+/// A run error.
+#[allow(clippy::too_many_arguments)]
+pub fn run_all(
+    source: CausticSource,
+    resolution: Option<(u32, u32)>,
+    beams: Option<u64>,
+    seed: u64,
+    ns: Vec<usize>,
+    realisations: u64,
+    rows: Vec<(Estimator, SceneSampler)>,
+    reference_beams: usize,
+    reference_realisations: u64,
+    out: &Path,
+    opts: &RunOptions,
+) -> Result<(), String> {
+    if opts.shard.is_none() {
+        std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+        run_image(&source, resolution, beams, seed, out, opts.quiet)?;
+    }
+    let exp = Study::new(StudyConfig {
+        source,
+        seed,
+        ns,
+        realisations,
+        rows,
+        reference_beams,
+        reference_realisations,
+    })?;
+    run_to_files(&exp, &out.join("study"), opts, Box::new(complete_study))
+}
+
+/// `linesample-lab merge` for caustic-study shards.
+///
+/// # Errors
+/// As [`crate::runner::merge`].
+pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+    let exp = Study::new(config_from(config, KIND)?)?;
+    merge_to_files(&exp, a, Box::new(complete_study))
+}
+
+// ---------------------------------------------------------------- paper
+
+/// The 2D scene, built into the binary.
+pub const SCENE_2D: &str = include_str!("../../../scenes/caustic-2d.toml");
+/// The 3D scene, built into the binary.
+pub const SCENE_3D: &str = include_str!("../../../scenes/caustic-3d.toml");
+
+/// The caustic runs of the `paper` report for `mode`, into `dir/2d` and
+/// `dir/3d`: the fluence images and the studies (random and jittered).
+/// Sizes: reduced 128² images from 2¹⁴ beams, N = 16, 64, 256 with R = 40;
+/// quick 256², 2¹⁸ beams, N = 16 … 1024, R = 300; full 512², 2²⁰ beams,
+/// N = 16 … 4096, R = 1000.
+///
+/// # Errors
+/// A run error.
+pub fn paper_runs(
+    mode: crate::experiments::paper::plan::Mode,
+    seed: u64,
+    dir: &Path,
+    opts: &RunOptions,
+) -> Result<(), String> {
+    use crate::experiments::paper::plan::Mode;
+    let (res, beams, ns, r): (u32, u64, Vec<usize>, u64) = match mode {
+        Mode::Reduced => (128, 1 << 14, vec![16, 64, 256], 40),
+        Mode::Quick => (256, 1 << 18, vec![16, 64, 256, 1024], 300),
+        Mode::Full => (512, 1 << 20, vec![16, 64, 256, 1024, 4096], 1000),
+    };
+    let quiet = RunOptions {
+        quiet: true,
+        ..opts.clone()
+    };
+    for (name, text) in [("2d", SCENE_2D), ("3d", SCENE_3D)] {
+        if !opts.quiet {
+            crate::out!("volumetric caustic {name}: fluence image {res}x{res}, points vs beams");
+        }
+        let source = CausticSource {
+            path: format!("scenes/caustic-{name}.toml"),
+            text: text.into(),
+        };
+        run_all(
+            source,
+            Some((res, res)),
+            Some(beams),
+            seed,
+            ns.clone(),
+            r,
+            study_rows(&[SceneSampler::Random, SceneSampler::Jittered]),
+            1 << 16,
+            64,
+            &dir.join(name),
+            &quiet,
+        )?;
+    }
+    Ok(())
+}
