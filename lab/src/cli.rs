@@ -181,12 +181,13 @@ pub enum Command {
     ///   linesample-lab merge --out runs/all runs/s{1..8}
     #[command(after_long_help = crate::files_note!())]
     Merge(MergeArgs),
-    /// Estimate a scene file's one effect (ambient occlusion, or direct light
-    /// from an area light) with points, segments and lines: images, and
-    /// pixel convergence studies.
+    /// Estimate a scene file's one effect (ambient occlusion, direct light
+    /// from an area light, or a volumetric caustic) with points, segments,
+    /// lines or beams: images, and convergence studies.
     ///
     /// FILE is a TOML scene (scenes/ao-spheres.toml, the paper's AO scene;
-    /// scenes/cornell-box.toml, direct light in the Cornell box): camera,
+    /// scenes/cornell-box.toml, direct light in the Cornell box;
+    /// scenes/caustic-2d.toml and caustic-3d.toml, volumetric caustics): camera,
     /// geometry, the effect and the estimators to compare; a mistake in it is
     /// one error naming the file, line, column and field. Only the effect is
     /// simulated: a camera ray per pixel finds the shading point, and every
@@ -227,6 +228,16 @@ pub enum Command {
     /// X,Y studies that one pixel instead. Jittered patterns are used
     /// unshifted (a shift would misalign their strata with the light's
     /// edges).
+    ///
+    /// Volumetric caustic (no camera: light, glass ball, medium, query ball
+    /// Q): the fluence image rendered with the file's [fluence] beams
+    /// (--resolution overrides its size) into OUT/fluence.png, then photon
+    /// points against photon beams with each of the file's samplers
+    /// (--samplers to restrict) at each N of --pixel-n (jittered: powers of
+    /// two), --realisations estimates each, against a reference of
+    /// --reference-realisations x --reference-lines jittered beams (default
+    /// 64 x 65536), into OUT/study/; OUT/caustics.csv gets the slopes, fitted
+    /// over the three largest N.
     ///
     /// Seeds: see the scene experiments' docs; results do not depend on
     /// --threads.

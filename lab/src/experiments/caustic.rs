@@ -214,17 +214,17 @@ impl Pattern {
         let e = |e: linesample::PatternError| e.to_string();
         match self {
             Pattern::One(p) => {
-                let mut v = vec![[0.0f32; 1]; n];
+                let mut v = buffer::filled(n, [0.0f32; 1], "samples")?;
                 p.fill(seed, &mut v).map_err(e)?;
                 out.extend(v.iter().map(|x| [f64::from(x[0]), 0.0, 0.0]));
             }
             Pattern::Two(p) => {
-                let mut v = vec![[0.0f32; 2]; n];
+                let mut v = buffer::filled(n, [0.0f32; 2], "samples")?;
                 p.fill(seed, &mut v).map_err(e)?;
                 out.extend(v.iter().map(|x| [f64::from(x[0]), f64::from(x[1]), 0.0]));
             }
             Pattern::Three(p) => {
-                let mut v = vec![[0.0f32; 3]; n];
+                let mut v = buffer::filled(n, [0.0f32; 3], "samples")?;
                 p.fill(seed, &mut v).map_err(e)?;
                 out.extend(
                     v.iter()
@@ -1164,8 +1164,8 @@ pub const SCENE_3D: &str = include_str!("../../../scenes/caustic-3d.toml");
 /// The caustic runs of the `paper` report for `mode`, into `dir/2d` and
 /// `dir/3d`: the fluence images and the studies (random and jittered).
 /// Sizes: reduced 128² images from 2¹⁴ beams, N = 16, 64, 256 with R = 40;
-/// quick 256², 2¹⁸ beams, N = 16 … 1024, R = 300; full 512², 2²⁰ beams,
-/// N = 16 … 4096, R = 1000.
+/// quick 256², 2¹⁸ beams, N = 16 … 4096, R = 300; full 512², 2²⁰ beams,
+/// N = 16 … 16384, R = 1000.
 ///
 /// # Errors
 /// A run error.
@@ -1178,8 +1178,8 @@ pub fn paper_runs(
     use crate::experiments::paper::plan::Mode;
     let (res, beams, ns, r): (u32, u64, Vec<usize>, u64) = match mode {
         Mode::Reduced => (128, 1 << 14, vec![16, 64, 256], 40),
-        Mode::Quick => (256, 1 << 18, vec![16, 64, 256, 1024], 300),
-        Mode::Full => (512, 1 << 20, vec![16, 64, 256, 1024, 4096], 1000),
+        Mode::Quick => (256, 1 << 18, vec![16, 64, 256, 1024, 4096], 300),
+        Mode::Full => (512, 1 << 20, vec![16, 64, 256, 1024, 4096, 16384], 1000),
     };
     let quiet = RunOptions {
         quiet: true,

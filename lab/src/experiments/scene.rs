@@ -94,6 +94,19 @@ and N: mean, bias z, variance and its SE, seconds per estimate), slopes.csv (fit
 95 % interval, slope of the last two N, seconds to 1 % relative RMSE),
 convergence-<pixel>.svg, time-to-error-<pixel>.svg, manifest.json.
 
+Volumetric caustic (OUT/): fluence.png (sigma_s times the fluence, log scale over
+four decades below the peak, black to white; the glass outlined grey and Q cyan;
+3D: the slab of the file's thickness around z = fluence.centre[2]),
+fluence.json (frame, beams, peak and where, power scattered inside the image,
+seconds), caustics.csv (dims,estimator,sampler,slope,slope_ci_low,slope_ci_high:
+variance vs N fitted over the three largest N, 95 % interval), and OUT/study/:
+rows.csv (per estimator, sampler and N: mean, bias z against the reference,
+variance and its SE, seconds per estimate), slopes.csv (the fit, the expected
+rate and its log-factor end, the fit over every N, the slope of the last two N,
+the largest |z|, N and seconds to 1 % relative RMSE), convergence.svg,
+time-to-error.svg, manifest.json. The image is rendered again by a rerun (seconds);
+the study resumes.
+
 Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
 `linesample-lab --help`). All files of a run are written as one group at the end.
 

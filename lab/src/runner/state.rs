@@ -411,7 +411,14 @@ fn differences(old: &Value, new: &Value) -> Vec<String> {
     keys.into_iter()
         .filter(|k| o.get(*k) != n.get(*k))
         .map(|k| {
-            let show = |v: Option<&Value>| v.map_or_else(|| "absent".to_string(), Value::to_string);
+            // Long values (a whole scene file) are cut: the key says what changed.
+            let show = |v: Option<&Value>| {
+                let s = v.map_or_else(|| "absent".to_string(), Value::to_string);
+                match s.char_indices().nth(80) {
+                    Some((i, _)) => format!("{}…", &s[..i]),
+                    None => s,
+                }
+            };
             format!("{k}: stored {}, now {}", show(o.get(k)), show(n.get(k)))
         })
         .collect()
