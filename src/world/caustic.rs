@@ -63,11 +63,14 @@
 //! `1 − d/r = 10⁻¹²`, chords cut by the ball, a light inside `Q`, and beams
 //! that miss the ball.
 //!
-//! The directions themselves are rounded (Snell's law costs a few ulp per
-//! interface), so a whole path agrees with an exact trace to about
-//! `10⁻¹⁵` in direction; the beam value inherits that times its condition
-//! number, which is large only for rays nearly tangent to `Q` or to the
-//! ball.
+//! The directions themselves are rounded: a whole path agrees with an
+//! exact trace to about `10⁻¹⁵/cos θᵢ` in direction and weight (`θᵢ` the
+//! angle of incidence on the ball: its cosine `−n·d` is known only to
+//! `≈ 10⁻¹⁶` absolute, from the rounded entry point). Every exit reuses the
+//! entry's `cos θᵢ` and `R` (the ball's symmetry) instead of forming
+//! `1 − n² sin²θ₂`, which would cancel near grazing. The beam value inherits
+//! the direction error times its condition number, which is large only for
+//! rays nearly tangent to `Q` or to the ball.
 
 // `!(x > y)` is deliberate below: it also catches NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -423,9 +426,14 @@ pub fn refract<const D: usize>(d: &[f64; D], n: &[f64; D], eta: f64) -> Option<[
     if sin2_t > 1.0 {
         return None;
     }
-    let ct = sqrt(1.0 - sin2_t);
+    Some(refracted(d, n, eta, ci, sqrt(1.0 - sin2_t)))
+}
+
+/// [`refract`] with both cosines known: `η d + (η cos θᵢ − cos θₜ) n`,
+/// renormalised.
+fn refracted<const D: usize>(d: &[f64; D], n: &[f64; D], eta: f64, ci: f64, ct: f64) -> [f64; D] {
     let k = eta * ci - ct;
-    Some(normalise(core::array::from_fn(|j| eta * d[j] + k * n[j])))
+    normalise(core::array::from_fn(|j| eta * d[j] + k * n[j]))
 }
 
 /// Mirror reflection of the unit direction `d` about the unit normal `n`:
@@ -619,11 +627,12 @@ impl<const D: usize> Caustic<D> {
             let n2 = normal(&p);
             let inward: [f64; D] = core::array::from_fn(|j| -n2[j]);
             let cos2 = dot(&n2, &d);
-            let r2 = match self.fresnel {
-                Fresnel::Off => 0.0,
-                Fresnel::On { .. } => fresnel_reflectance(cos2, self.glass.ior),
-            };
-            if let Some(out) = refract(&d, &inward, self.glass.ior) {
+            // The ball's symmetry: the ray leaves at the angle it entered
+            // (cos θₒ = cos θᵢ, no cancellation in 1 − n² sin²θ₂ near
+            // grazing), and R₂ = R₁ (reciprocity).
+            let r2 = r1;
+            let out = refracted(&d, &inward, self.glass.ior, cos2, cos1);
+            {
                 path.push(Segment {
                     ray: Ray {
                         origin: p,
