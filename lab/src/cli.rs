@@ -230,7 +230,7 @@ pub enum Command {
     /// edges).
     ///
     /// Volumetric caustic (no camera: light, glass ball, medium, query ball
-    /// Q): the fluence image rendered with the file's [fluence] beams
+    /// Q): the fluence image rendered with the file's fluence.beams
     /// (--resolution overrides its size) into OUT/fluence.png, then photon
     /// points against photon beams with each of the file's samplers
     /// (--samplers to restrict) at each N of --pixel-n (jittered: powers of

@@ -591,10 +591,7 @@ impl<const D: usize> Caustic<D> {
             Fresnel::Off => (0, 0.0),
             Fresnel::On {
                 internal_reflections,
-            } => (
-                internal_reflections,
-                fresnel_reflectance(cos1, eta_in),
-            ),
+            } => (internal_reflections, fresnel_reflectance(cos1, eta_in)),
         };
         if r1 > 0.0 {
             path.push(Segment {

@@ -622,7 +622,8 @@ pub fn complete_study(
             slope_ci_low: slope - 1.96 * se,
             slope_ci_high: slope + 1.96 * se,
         });
-        let (x0, x1) = (pts[0].0, pts[m - 1].0);
+        // The fitted line over the range it was fitted on.
+        let (x0, x1) = (tail[0].0, pts[m - 1].0);
         time_series.push(Series {
             label: label.clone(),
             points: pts
