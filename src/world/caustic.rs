@@ -627,20 +627,17 @@ impl<const D: usize> Caustic<D> {
             // The ball's symmetry: the ray leaves at the angle it entered
             // (cos θₒ = cos θᵢ, no cancellation in 1 − n² sin²θ₂ near
             // grazing), and R₂ = R₁ (reciprocity).
-            let r2 = r1;
             let out = refracted(&d, &inward, self.glass.ior, cos2, cos1);
-            {
-                path.push(Segment {
-                    ray: Ray {
-                        origin: p,
-                        dir: Direction::from_unit(out),
-                    },
-                    start: t_in,
-                    length: f64::INFINITY,
-                    weight: w * (1.0 - r2),
-                });
-            }
-            w *= r2;
+            path.push(Segment {
+                ray: Ray {
+                    origin: p,
+                    dir: Direction::from_unit(out),
+                },
+                start: t_in,
+                length: f64::INFINITY,
+                weight: w * (1.0 - r1),
+            });
+            w *= r1;
             if k == k_max || !(w > 0.0) {
                 break;
             }
