@@ -61,11 +61,19 @@ fn check_path<const D: usize>(p: &PhotonPath<D>) -> f64 {
         assert!(o.iter().all(|x| x.is_finite()), "origin {o:?}");
         let n2: f64 = d.iter().map(|x| x * x).sum();
         assert!((n2 - 1.0).abs() <= 16.0 * U, "direction {d:?}");
-        assert!((0.0..=1.0 + 4.0 * U).contains(&g.weight), "weight {}", g.weight);
+        assert!(
+            (0.0..=1.0 + 4.0 * U).contains(&g.weight),
+            "weight {}",
+            g.weight
+        );
         assert!(g.start >= 0.0 && g.length >= 0.0, "{g:?}");
         total += g.weight;
     }
-    assert!(p.escaping_weight() <= 1.0 + 16.0 * U, "{}", p.escaping_weight());
+    assert!(
+        p.escaping_weight() <= 1.0 + 16.0 * U,
+        "{}",
+        p.escaping_weight()
+    );
     total
 }
 
@@ -93,7 +101,10 @@ fn run<const D: usize>(c: &Case<D>) {
     let ior = pick(c.ior, 1.0 + 3.0 * unit(c.ior));
     let sigma_s = pick(c.sigma[0], 10f64.powf(-3.0 + 5.0 * unit(c.sigma[0])) / sc);
     let sigma_a = pick(c.sigma[1], 10f64.powf(-3.0 + 5.0 * unit(c.sigma[1])) / sc);
-    let query_radius = pick(c.query_radius, 10f64.powf(-4.0 + 4.5 * unit(c.query_radius)) * sc);
+    let query_radius = pick(
+        c.query_radius,
+        10f64.powf(-4.0 + 4.5 * unit(c.query_radius)) * sc,
+    );
     let Ok(light) = ConeEmitter::<D>::new(map(&c.light), c.axis, cone) else {
         return;
     };
