@@ -27,7 +27,7 @@
 //! Seeds: the reference's realisation `r` uses
 //! `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1)).realization(r)`; row `e`
 //! (estimator × sampler, in the order of `rows.csv`) at `N` uses
-//! `Seed::new(Seed::new(SEED).stream(1000·e + N)).realization(r)`; the image
+//! `Seed::new(Seed::new(SEED).stream(2⁴⁰·e + N)).realization(r)`; the image
 //! uses `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 2))`. A resumed or sharded
 //! run draws the same numbers, whatever the thread count.
 
@@ -318,8 +318,10 @@ fn image_seed(seed: u64) -> Seed {
     Seed::new(Seed::new(seed).stream(u64::MAX - 1))
 }
 
+/// Row `e` at `N`: stream `2⁴⁰·e + N` (distinct for every row and any
+/// `N < 2⁴⁰`).
 fn row_seed(seed: u64, e: usize, n: usize) -> Seed {
-    Seed::new(Seed::new(seed).stream(1000 * e as u64 + n as u64))
+    Seed::new(Seed::new(seed).stream(((e as u64) << 40) | n as u64))
 }
 
 impl Experiment for Study {
