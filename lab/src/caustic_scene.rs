@@ -27,7 +27,7 @@
 //!
 //! [query]                       # the ball Q scored
 //! centre = [0.05, -1.0]
-//! radius = 0.1
+//! radius = 0.2
 //!
 //! [fluence]                     # the beam-rendered fluence image
 //! centre = [0.0, -0.5]          # 3D: [x, y, z]; the slice is z = centre[2]
