@@ -178,21 +178,6 @@ pub fn is_caustic(text: &str) -> bool {
     })
 }
 
-/// Reads and checks a caustic scene file.
-///
-/// # Errors
-/// A [`SceneError`] naming the file, line, column and field.
-pub fn load(path: &Path) -> Result<CausticScene, SceneError> {
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError {
-        file: path.to_path_buf(),
-        line: 0,
-        column: 0,
-        field: "(file)".into(),
-        message: format!("cannot read it: {e}"),
-    })?;
-    parse(path, &text)
-}
-
 fn vector(
     ctx: &Ctx<'_>,
     field: &str,

@@ -14,6 +14,25 @@ pub struct Fit {
     pub points: usize,
 }
 
+impl Fit {
+    /// The `x` at which the fitted law reaches `y`: `exp((ln y − a)/b)`
+    /// (e.g. the `N` whose variance is a target).
+    #[must_use]
+    pub fn x_at(&self, y: f64) -> f64 {
+        ((y.ln() - self.intercept) / self.slope).exp()
+    }
+}
+
+/// The slope between the last two points, `ln(y_m/y_{m−1})/ln(x_m/x_{m−1})`;
+/// NaN with fewer than two.
+#[must_use]
+pub fn last_slope(data: &[(f64, f64, f64)]) -> f64 {
+    match data {
+        [.., a, b] => (b.1 / a.1).ln() / (b.0 / a.0).ln(),
+        _ => f64::NAN,
+    }
+}
+
 /// Fits `ln y = a + b ln x` by weighted least squares with weights
 /// `w = (y/err)²`, the inverse variance of `ln y` by the delta method. Points
 /// with `y ≤ 0`, a non-finite or non-positive `err`, or `x ≤ 0` are left out.
@@ -76,6 +95,9 @@ mod tests {
         let m = xs.iter().sum::<f64>() / 4.0;
         let sxx: f64 = xs.iter().map(|x| (x - m) * (x - m)).sum();
         assert!((f.slope_se - 0.1 / sxx.sqrt()).abs() < 1e-12);
+        assert!((f.x_at(3.0 * 256f64.powf(-1.5)) - 256.0).abs() < 1e-9);
+        assert!((last_slope(&data) + 1.5).abs() < 1e-12);
+        assert!(last_slope(&data[..1]).is_nan());
         // Unusable points are skipped.
         assert!(fit_loglog(&[(16.0, 1.0, 0.1), (64.0, 0.0, 0.1)]).is_none());
         assert_eq!(

@@ -46,7 +46,7 @@ use crate::cli::{MergeArgs, SceneArgs};
 use crate::experiments::scene::rgb_png;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::fit_loglog;
+use crate::fit::{fit_loglog, last_slope};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
@@ -360,33 +360,20 @@ impl Experiment for Study {
             )
         };
         let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n)?;
-        let chunks = total.div_ceil(CHUNK);
-        let parts = ctx.map_ordered(
-            chunks as usize,
-            |c| -> Result<(RunningStats, f64), String> {
-                let mut x = buffer::empty(n, "samples")?;
-                let mut rs = RunningStats::new();
-                let t = Instant::now();
-                let r0 = c as u64 * CHUNK;
-                for r in r0..(r0 + CHUNK).min(total) {
-                    pattern.fill(seed.realization(r), n, &mut x)?;
-                    rs.push(self.world.estimate(est, &x));
-                }
-                ctx.advance(rs.count());
-                Ok((rs, t.elapsed().as_secs_f64()))
+        let (rs, seconds) = ctx.realisations(
+            total,
+            CHUNK,
+            || buffer::empty(n, "samples"),
+            |x, r| {
+                pattern.fill(seed.realization(r), n, x)?;
+                Ok(self.world.estimate(est, x))
             },
         )?;
-        let mut rs = RunningStats::new();
-        let mut secs = 0.0;
-        for (s, t) in parts {
-            rs.merge(&s);
-            secs += t;
-        }
         let (count, moments) = rs.parts();
         Ok(StudyCell {
             count,
             moments,
-            seconds: secs / count.max(1) as f64,
+            seconds,
         })
     }
 }
@@ -575,15 +562,8 @@ pub fn complete_study(
         let fit = fit_loglog(tail);
         let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
         let slope_all = fit_loglog(&pts).map_or(f64::NAN, |f| f.slope);
-        let last = if m >= 2 {
-            (pts[m - 1].1 / pts[m - 2].1).ln() / (pts[m - 1].0 / pts[m - 2].0).ln()
-        } else {
-            f64::NAN
-        };
-        let n1 = fit.map_or(f64::NAN, |f| {
-            let target = (0.01 * rv) * (0.01 * rv);
-            ((target.ln() - f.intercept) / f.slope).exp().max(1.0)
-        });
+        let last = last_slope(&pts);
+        let n1 = fit.map_or(f64::NAN, |f| f.x_at((0.01 * rv).powi(2)).max(1.0));
         let t1 = n1 * secs[m - 1] / pts[m - 1].0;
         let n_mid = (tail.iter().map(|p| p.0.ln()).sum::<f64>() / tail.len() as f64).exp();
         let exp_slope = expected(dims, est, sampler).map_or(f64::NAN, |x| x.0);
@@ -1081,14 +1061,13 @@ pub fn study_rows(samplers: &[SceneSampler]) -> Vec<(Estimator, SceneSampler)> {
         .collect()
 }
 
-/// `linesample-lab scene FILE` for a volumetric-caustic scene.
+/// `linesample-lab scene FILE` for a volumetric-caustic scene whose file
+/// holds `text`.
 ///
 /// # Errors
 /// A scene error, a bad option or a run error.
-pub fn main(a: &SceneArgs) -> Result<(), String> {
-    let scene = caustic_scene::load(&a.file).map_err(|e| e.to_string())?;
-    let text =
-        std::fs::read_to_string(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
+pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
+    let scene = caustic_scene::parse(&a.file, &text).map_err(|e| e.to_string())?;
     let source = CausticSource {
         path: a.file.display().to_string(),
         text,

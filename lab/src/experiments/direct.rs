@@ -48,7 +48,7 @@ use crate::cli::{MergeArgs, SceneArgs};
 use crate::experiments::scene::{rgb_png, SceneSource};
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::fit_loglog;
+use crate::fit::{fit_loglog, last_slope};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
@@ -1525,41 +1525,28 @@ impl Experiment for PixelStudy {
             ),
         };
         let pattern = Pattern::new(&est, n)?;
-        let chunks = total.div_ceil(CHUNK);
-        let parts = ctx.map_ordered(
-            chunks as usize,
-            |c| -> Result<(RunningStats, f64), String> {
-                let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
-                let mut rs = RunningStats::new();
-                let t = Instant::now();
-                let r0 = c as u64 * CHUNK;
-                for r in r0..(r0 + CHUNK).min(total) {
-                    rs.push(one_estimate(
-                        &self.world,
-                        px,
-                        &est,
-                        &pattern,
-                        seed.realization(r),
-                        &mut vals,
-                        &mut one,
-                        &mut scratch,
-                    )?);
-                }
-                ctx.advance(rs.count());
-                Ok((rs, t.elapsed().as_secs_f64()))
+        let (rs, seconds) = ctx.realisations(
+            total,
+            CHUNK,
+            || Ok((Vec::new(), Vec::new(), Vec::new())),
+            |(vals, one, scratch), r| {
+                one_estimate(
+                    &self.world,
+                    px,
+                    &est,
+                    &pattern,
+                    seed.realization(r),
+                    vals,
+                    one,
+                    scratch,
+                )
             },
         )?;
-        let mut rs = RunningStats::new();
-        let mut secs = 0.0;
-        for (s, t) in parts {
-            rs.merge(&s);
-            secs += t;
-        }
         let (count, moments) = rs.parts();
         Ok(PixelCell {
             count,
             moments,
-            seconds: secs / count.max(1) as f64,
+            seconds,
         })
     }
 }
@@ -1678,17 +1665,10 @@ pub fn complete_pixels(
             let fit = fit_loglog(&pts);
             let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
             let m = pts.len();
-            let last = if m >= 2 {
-                (pts[m - 1].1 / pts[m - 2].1).ln() / (pts[m - 1].0 / pts[m - 2].0).ln()
-            } else {
-                f64::NAN
-            };
+            let last = last_slope(&pts);
             // Time to RMSE = 1 % of E: N with var(N) = (0.01 E)², time ∝ N.
             let t1 = fit.map_or(f64::NAN, |f| {
-                let target = (0.01 * rv) * (0.01 * rv);
-                let n_needed = ((target.ln() - f.intercept) / f.slope).exp();
-                let per_sample = secs[m - 1] / pts[m - 1].0;
-                n_needed.max(1.0) * per_sample
+                f.x_at((0.01 * rv).powi(2)).max(1.0) * secs[m - 1] / pts[m - 1].0
             });
             let _ = writeln!(
                 text,

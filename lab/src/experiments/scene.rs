@@ -1111,33 +1111,20 @@ impl PixelStudy {
         seed: Seed,
     ) -> Result<PixelCell, String> {
         let offsets = Offsets::new(spec, n, self.config.shift == ShiftMode::Random)?;
-        let chunks = realisations.div_ceil(CHUNK) as usize;
-        let parts = ctx.map_ordered(chunks, |c| {
-            let mut rs = RunningStats::new();
-            let mut scratch = self.world.scratch();
-            let mut uv = Vec::new();
-            let r0 = c as u64 * CHUNK;
-            let r1 = (r0 + CHUNK).min(realisations);
-            let t = Instant::now();
-            for r in r0..r1 {
-                offsets.fill(seed.realization(r), &mut uv)?;
-                rs.push(self.world.estimate(&self.px, spec, &uv, &mut scratch)?);
-            }
-            let s = t.elapsed().as_secs_f64();
-            ctx.advance(r1 - r0);
-            Ok((rs, s))
-        })?;
-        let mut all = RunningStats::new();
-        let mut secs = 0.0;
-        for (rs, s) in &parts {
-            all.merge(rs);
-            secs += s;
-        }
+        let (all, seconds_per_estimate) = ctx.realisations(
+            realisations,
+            CHUNK,
+            || Ok((self.world.scratch(), Vec::new())),
+            |(scratch, uv), r| {
+                offsets.fill(seed.realization(r), uv)?;
+                self.world.estimate(&self.px, spec, uv, scratch)
+            },
+        )?;
         let (count, moments) = all.parts();
         Ok(PixelCell {
             count,
             moments,
-            seconds_per_estimate: secs / realisations.max(1) as f64,
+            seconds_per_estimate,
             predictions: Vec::new(),
             periodogram: Vec::new(),
         })
@@ -1404,9 +1391,7 @@ pub fn complete_pixel(
             .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
         let seconds_to_1pct = fit.map_or(f64::NAN, |f| {
             // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b).
-            let goal = (0.01 * reference.value).powi(2);
-            let n = ((goal.ln() - f.intercept) / f.slope).exp();
-            n.max(1.0) * last
+            f.x_at((0.01 * reference.value).powi(2)).max(1.0) * last
         });
         let (last_slope, last_slope_se) = if nn >= 2 {
             let (a, b) = (&rs[nn - 2], &rs[nn - 1]);
@@ -1808,8 +1793,10 @@ fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec
 /// # Errors
 /// A scene file error (file, line, field), a bad option, or a run error.
 pub fn main(a: &SceneArgs) -> Result<(), String> {
-    if std::fs::read_to_string(&a.file).is_ok_and(|t| crate::caustic_scene::is_caustic(&t)) {
-        return crate::experiments::caustic::main(a);
+    if let Ok(text) = std::fs::read_to_string(&a.file) {
+        if crate::caustic_scene::is_caustic(&text) {
+            return crate::experiments::caustic::main(a, text);
+        }
     }
     let (source, scene) = read_source(&a.file)?;
     if scene.effect == Effect::DirectLight {

@@ -28,6 +28,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
+use linesample::stats::RunningStats;
 use rayon::prelude::*;
 use serde::de::DeserializeOwned;
 use serde::Serialize;
@@ -118,6 +119,46 @@ impl Ctx<'_> {
         f: impl Fn(usize) -> Result<T, String> + Sync + Send,
     ) -> Result<Vec<T>, String> {
         (0..count).into_par_iter().map(f).collect()
+    }
+
+    /// Realisations `0 … total − 1` of one estimator, in chunks of `chunk`
+    /// on the pool ([`Ctx::map_ordered`]): each chunk makes its scratch with
+    /// `init` and calls `one(&mut scratch, r)` for each of its realisations
+    /// `r`, reporting progress per chunk. Returns their statistics, merged in
+    /// chunk order (the same for any thread count), and the seconds per
+    /// estimate (each chunk timed on its own thread).
+    ///
+    /// # Errors
+    /// The first error of `init` or `one`.
+    pub fn realisations<S>(
+        &self,
+        total: u64,
+        chunk: u64,
+        init: impl Fn() -> Result<S, String> + Sync + Send,
+        one: impl Fn(&mut S, u64) -> Result<f64, String> + Sync + Send,
+    ) -> Result<(RunningStats, f64), String> {
+        let chunk = chunk.max(1);
+        let parts = self.map_ordered(total.div_ceil(chunk) as usize, |c| {
+            let mut scratch = init()?;
+            let mut rs = RunningStats::new();
+            let r0 = c as u64 * chunk;
+            let r1 = (r0 + chunk).min(total);
+            let t = Instant::now();
+            for r in r0..r1 {
+                rs.push(one(&mut scratch, r)?);
+            }
+            let secs = t.elapsed().as_secs_f64();
+            self.advance(r1 - r0);
+            Ok((rs, secs))
+        })?;
+        let mut all = RunningStats::new();
+        let mut secs = 0.0;
+        for (rs, t) in &parts {
+            all.merge(rs);
+            secs += t;
+        }
+        let per = secs / all.count().max(1) as f64;
+        Ok((all, per))
     }
 }
 
