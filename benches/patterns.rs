@@ -2,7 +2,10 @@
 //! scalar paths, next to two baselines measured in the same run:
 //! * `sobol_burley` (Owen-scrambled Sobol, Burley 2020) generating the same
 //!   number of points (one `sample(i, dim, seed)` per coordinate);
-//! * a plain memory fill of the same number of bytes (the physical limit).
+//! * a plain memory fill of the same number of bytes (the physical limit);
+//! * two scalar generator crates filling the same `f32` buffer with uniform
+//!   numbers, as `Random` does: `rand_xoshiro`'s Xoshiro128+ (`next_u32`, top 24
+//!   bits scaled, our conversion) and `fastrand` (`Rng::f32`).
 //!
 //! Run: `cargo bench --bench patterns` (AVX2 build, from `.cargo/config.toml`) and
 //! `RUSTFLAGS="-C target-cpu=x86-64" cargo bench --bench patterns --target-dir target/baseline`.
@@ -12,6 +15,8 @@ use linesample::pattern::{
     CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Random, Sobol,
 };
 use linesample::Seed;
+use rand_core::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro128Plus;
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -82,6 +87,26 @@ fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Samplers<D>) 
                 })
             });
         }
+        g.bench_function("baseline/xoshiro128plus", |b| {
+            let mut rng = Xoshiro128Plus::seed_from_u64(7);
+            b.iter(|| {
+                for p in out.iter_mut() {
+                    *p = core::array::from_fn(|_| {
+                        (rng.next_u32() >> 8) as f32 * (1.0 / 16_777_216.0)
+                    });
+                }
+                black_box(&mut out);
+            })
+        });
+        g.bench_function("baseline/fastrand", |b| {
+            let mut rng = fastrand::Rng::with_seed(7);
+            b.iter(|| {
+                for p in out.iter_mut() {
+                    *p = core::array::from_fn(|_| rng.f32());
+                }
+                black_box(&mut out);
+            })
+        });
         let mut bytes = vec![0u8; n * D * 4];
         g.bench_function("baseline/memory_fill", |b| {
             b.iter(|| {

@@ -3,7 +3,8 @@
 //! k-d tree, allocating) at the same radius, 2D and 3D, N ≈ 4096 and 65536
 //! (radii chosen beforehand, by trial runs, so that `fast_poisson` gives about
 //! N points for seed 7);
-//! plus maximal dart throwing at N ≈ 4096 in 2D.
+//! plus maximal dart throwing (active-box dart throwing, Ebeida et al. 2011;
+//! maximal, exact minimum distance) at every size, in the same groups.
 //!
 //! The throughput of each benchmark uses the number of points that generator
 //! produces for seed 7 (printed before the group runs): our sets are periodic and
@@ -69,14 +70,12 @@ fn poisson_2d(c: &mut Criterion) {
         let mut g = c.benchmark_group(format!("poisson_2d_{label}"));
         ours::<2>("ours_bridson", r, PoissonMethod::Bridson, &mut g);
         theirs::<2>(r, &mut g);
-        if label == "4096" {
-            ours::<2>(
-                "ours_maximal_dart",
-                r,
-                PoissonMethod::MaximalDartThrowing,
-                &mut g,
-            );
-        }
+        ours::<2>(
+            "ours_maximal_dart",
+            r,
+            PoissonMethod::MaximalDartThrowing,
+            &mut g,
+        );
         g.finish();
     }
 }
@@ -86,6 +85,12 @@ fn poisson_3d(c: &mut Criterion) {
         let mut g = c.benchmark_group(format!("poisson_3d_{label}"));
         ours::<3>("ours_bridson", r, PoissonMethod::Bridson, &mut g);
         theirs::<3>(r, &mut g);
+        ours::<3>(
+            "ours_maximal_dart",
+            r,
+            PoissonMethod::MaximalDartThrowing,
+            &mut g,
+        );
         g.finish();
     }
 }

@@ -5,7 +5,7 @@
 //!
 //! 1. a keyed bijection `P` of `[0, 2ᵇ)`, `b = ⌈log₂ n⌉`: a generalised Feistel
 //!    network on the split `x = (hi, lo)` (`⌈b/2⌉` and `⌊b/2⌋` bits) whose rounds
-//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (eight rounds) with the round function
+//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (eight rounds for `b ≤ 12`, four above) with the round function
 //!    `F = mix32(· ⊕ k_r)` (Luby & Rackoff 1988[^1]); each round is invertible;
 //! 2. *cycle walking* (Black & Rogaway 2002[^2]): `P` is re-applied until the value
 //!    falls in `[0, n)`, which restricts the bijection to `[0, n)`; since
@@ -28,8 +28,24 @@
 use crate::rng::{mix32, mix32x8};
 use wide::u32x8;
 
-/// Number of Feistel rounds (four per half).
+/// Largest number of Feistel rounds (four per half), used for domains of at
+/// most `2¹²` elements; the round keys are always derived for all of them.
 const ROUNDS: u32 = 8;
+
+/// Feistel rounds for a `b`-bit domain: eight up to `b = 12` (halves of at
+/// most six bits, where each round mixes few bits), four above. Four rounds
+/// of a keyed pseudo-random round function already give a pseudo-random
+/// permutation (Luby & Rackoff 1988); the extra rounds on small domains make
+/// the reachable permutations better spread (`hash` tests check pair
+/// uniformity over keys for small `n`; `tests/patterns.rs` the large ones).
+#[inline(always)]
+const fn rounds(bits: u32) -> usize {
+    if bits > 12 {
+        4
+    } else {
+        ROUNDS as usize
+    }
+}
 
 /// Domains up to this size use an exact Fisher–Yates shuffle instead of the
 /// Feistel network (tiny Feistel networks reach only some permutations).
@@ -88,8 +104,9 @@ const fn feistel(
 ) -> u32 {
     let mut hi = x >> lo_bits;
     let mut lo = x & lo_mask;
+    let rounds = rounds(lo_bits + (32 - hi_mask.leading_zeros()));
     let mut r = 0;
-    while r < ROUNDS as usize {
+    while r < rounds {
         if r % 2 == 0 {
             hi ^= mix32(lo ^ keys[r]) & hi_mask;
         } else {
@@ -146,47 +163,153 @@ pub fn permute(i: u32, n: u32, key: u32) -> u32 {
 #[inline]
 #[must_use]
 pub fn permute_x8(i: u32x8, n: u32, key: u32x8) -> u32x8 {
-    if n <= 1 {
-        return u32x8::ZERO;
+    PermuteX8::new(n, key).apply(i)
+}
+
+/// Eight permutations of `[0, n)` (one key per lane) with their round keys and
+/// rotation computed once: [`PermuteX8::apply`] is [`permute_x8`] without the
+/// nine key hashes, and [`PermuteX8::apply4`] evaluates four independent
+/// vectors in lock step.
+///
+/// The Feistel rounds form a dependency chain of eight [`mix32`] evaluations
+/// (about 100 cycles of latency per vector); interleaving four independent
+/// chains lets the CPU overlap them, which is what makes N-rooks and
+/// (correlated) multi-jittered generation throughput-bound rather than
+/// latency-bound. The values are those of [`permute`], lane by lane.
+#[derive(Clone, Copy, Debug)]
+pub struct PermuteX8 {
+    n: u32,
+    key: u32x8,
+    keys: [u32x8; ROUNDS as usize],
+    rotation: u32x8,
+    mask: u32,
+    lo_bits: u32,
+    rounds: usize,
+}
+
+impl PermuteX8 {
+    /// Permutations of `[0, n)` with lane keys `key`.
+    #[inline(always)]
+    #[must_use]
+    pub fn new(n: u32, key: u32x8) -> Self {
+        let rk = |r: u32| {
+            mix32x8(key ^ u32x8::splat(r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)))
+        };
+        let mask = domain_mask(n);
+        let big = n > SMALL_DOMAIN;
+        PermuteX8 {
+            n,
+            key,
+            keys: if big {
+                core::array::from_fn(|r| rk(r as u32))
+            } else {
+                [u32x8::ZERO; ROUNDS as usize]
+            },
+            rotation: if big {
+                rk(ROUNDS).mul_keep_high(u32x8::splat(n))
+            } else {
+                u32x8::ZERO
+            },
+            mask,
+            lo_bits: mask.count_ones() / 2,
+            rounds: rounds(mask.count_ones()),
+        }
     }
-    if n <= SMALL_DOMAIN {
-        let (ia, ka) = (i.to_array(), key.to_array());
+
+    /// Exact Fisher–Yates tables for `n ≤ 16` (see [`permute`]).
+    #[cold]
+    fn small(&self, i: u32x8) -> u32x8 {
+        let n = self.n;
+        let (ia, ka) = (i.to_array(), self.key.to_array());
         if ka.iter().all(|&k| k == ka[0]) {
             // One key for all lanes (e.g. correlated multi-jitter): one table.
             let t = small_table(n, ka[0]);
             return u32x8::new(core::array::from_fn(|l| u32::from(t[(ia[l] % n) as usize])));
         }
-        return u32x8::new(core::array::from_fn(|l| permute_small(ia[l] % n, n, ka[l])));
+        u32x8::new(core::array::from_fn(|l| permute_small(ia[l] % n, n, ka[l])))
     }
-    let mask = domain_mask(n);
-    let bits = mask.count_ones();
-    let lo_bits = bits / 2;
-    let lo_mask = u32x8::splat((1u32 << lo_bits) - 1);
-    let hi_mask = u32x8::splat(mask >> lo_bits);
-    let rk =
-        |r: u32| mix32x8(key ^ u32x8::splat(r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)));
-    let keys: [u32x8; ROUNDS as usize] = core::array::from_fn(|r| rk(r as u32));
-    let p = |x: u32x8| {
-        let mut hi = x >> lo_bits;
+
+    /// The keyed bijection `P` of `[0, 2ᵇ)` on one vector.
+    #[inline(always)]
+    fn feistel(&self, x: u32x8) -> u32x8 {
+        let lo_mask = u32x8::splat((1u32 << self.lo_bits) - 1);
+        let hi_mask = u32x8::splat(self.mask >> self.lo_bits);
+        let mut hi = x >> self.lo_bits;
         let mut lo = x & lo_mask;
-        for r in (0..ROUNDS as usize).step_by(2) {
-            hi ^= mix32x8(lo ^ keys[r]) & hi_mask;
-            lo ^= mix32x8(hi ^ keys[r + 1]) & lo_mask;
+        for r in (0..self.rounds).step_by(2) {
+            hi ^= mix32x8(lo ^ self.keys[r]) & hi_mask;
+            lo ^= mix32x8(hi ^ self.keys[r + 1]) & lo_mask;
         }
-        (hi << lo_bits) | lo
-    };
-    let vn = u32x8::splat(n);
-    let mut x = p(i & u32x8::splat(mask));
-    let mut pending = x.simd_ge(vn);
-    while pending.any() {
-        let y = p(x);
-        x = pending.select(y, x);
-        pending &= x.simd_ge(vn);
+        (hi << self.lo_bits) | lo
     }
-    let c = rk(ROUNDS).mul_keep_high(vn);
-    let y = x + c;
-    let over = y.simd_ge(vn);
-    y - (over & vn)
+
+    /// Cycle walking of the lanes still outside `[0, n)`, then the rotation.
+    #[inline(always)]
+    fn finish(&self, mut x: u32x8) -> u32x8 {
+        let vn = u32x8::splat(self.n);
+        let mut pending = x.simd_ge(vn);
+        while pending.any() {
+            let y = self.feistel(x);
+            x = pending.select(y, x);
+            pending &= x.simd_ge(vn);
+        }
+        let y = x + self.rotation;
+        let over = y.simd_ge(vn);
+        y - (over & vn)
+    }
+
+    /// `permute(i_l, n, key_l)` in lane `l`.
+    #[inline(always)]
+    #[must_use]
+    pub fn apply(&self, i: u32x8) -> u32x8 {
+        if self.n <= 1 {
+            return u32x8::ZERO;
+        }
+        if self.n <= SMALL_DOMAIN {
+            return self.small(i);
+        }
+        self.finish(self.feistel(i & u32x8::splat(self.mask)))
+    }
+
+    /// Four vectors through four permutation sets sharing `n`: element `v` is
+    /// `perms[v].apply(i[v])`. The first Feistel pass of all four runs
+    /// interleaved, round by round.
+    ///
+    /// # Panics
+    /// Debug builds assert that all four share `n`.
+    #[inline(always)]
+    #[must_use]
+    pub fn apply4(perms: [&PermuteX8; 4], i: [u32x8; 4]) -> [u32x8; 4] {
+        let p0 = perms[0];
+        debug_assert!(perms.iter().all(|p| p.n == p0.n));
+        if p0.n <= SMALL_DOMAIN {
+            return core::array::from_fn(|v| perms[v].apply(i[v]));
+        }
+        let lo_mask = u32x8::splat((1u32 << p0.lo_bits) - 1);
+        let hi_mask = u32x8::splat(p0.mask >> p0.lo_bits);
+        let mask = u32x8::splat(p0.mask);
+        // Plain loops over fixed-size arrays (not `array::from_fn`, whose
+        // closures the compiler does not always inline here).
+        let mut hi = [u32x8::ZERO; 4];
+        let mut lo = [u32x8::ZERO; 4];
+        for v in 0..4 {
+            hi[v] = (i[v] & mask) >> p0.lo_bits;
+            lo[v] = i[v] & lo_mask;
+        }
+        for r in (0..p0.rounds).step_by(2) {
+            for v in 0..4 {
+                hi[v] ^= mix32x8(lo[v] ^ perms[v].keys[r]) & hi_mask;
+            }
+            for v in 0..4 {
+                lo[v] ^= mix32x8(hi[v] ^ perms[v].keys[r + 1]) & lo_mask;
+            }
+        }
+        let mut out = [u32x8::ZERO; 4];
+        for v in 0..4 {
+            out[v] = perms[v].finish((hi[v] << p0.lo_bits) | lo[v]);
+        }
+        out
+    }
 }
 
 #[cfg(test)]
@@ -260,6 +383,72 @@ mod tests {
                 * (1.0 - 2.0 / (9.0 * df) + 3.72 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
                     .powi(3);
             assert!(chi < q, "n {n}: chi2 {chi} ≥ {q}");
+        }
+    }
+
+    #[test]
+    fn large_domain_pairs_are_uniform_over_keys() {
+        // The four-round regime (b > 12): for fixed i ≠ j, the pair
+        // (permute(i), permute(j)) over 20000 keys, binned 16 × 16, against
+        // the uniform distribution on distinct pairs (each bin holds a share
+        // (n/16)² minus its diagonal of the n(n−1) pairs): chi-square below
+        // its 1 − 10⁻⁶ quantile (df = 255; Wilson–Hilferty, z = 4.753).
+        for n in [1u32 << 13, 1 << 16, 100_000, (1 << 24) - 5] {
+            for (i, j) in [(0u32, 1u32), (5, 6), (1000, 1001), (7, n - 1)] {
+                let keys = 20_000u32;
+                let mut h = [0u32; 256];
+                for key in 0..keys {
+                    let key = key.wrapping_mul(0x2545_F491) ^ 0x9E37_79B9;
+                    let (a, b) = (permute(i, n, key), permute(j, n, key));
+                    assert_ne!(a, b);
+                    let bin = |v: u32| ((u64::from(v) * 16) / u64::from(n)) as usize;
+                    h[bin(a) * 16 + bin(b)] += 1;
+                }
+                // Bin sizes: value bin k holds w_k = ⌈(k+1)n/16⌉ − ⌈kn/16⌉ values.
+                let w: [f64; 16] = core::array::from_fn(|k| {
+                    let lo = (k as u64 * u64::from(n)).div_ceil(16);
+                    let hi = ((k as u64 + 1) * u64::from(n)).div_ceil(16);
+                    (hi - lo) as f64
+                });
+                let pairs = f64::from(n) * (f64::from(n) - 1.0);
+                let mut chi = 0.0;
+                for (c, &v) in h.iter().enumerate() {
+                    let (x, y) = (c / 16, c % 16);
+                    let cells = w[x] * w[y] - if x == y { w[x] } else { 0.0 };
+                    let e = f64::from(keys) * cells / pairs;
+                    chi += (f64::from(v) - e).powi(2) / e;
+                }
+                let df = 255.0f64;
+                let q = df
+                    * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
+                        .powi(3);
+                assert!(chi < q, "n {n} ({i}, {j}): chi2 {chi} ≥ {q}");
+            }
+        }
+    }
+
+    #[test]
+    fn interleaved_matches_scalar() {
+        for n in [1u32, 2, 3, 16, 17, 255, 256, 257, 100_000, 1 << 24] {
+            let perms: [PermuteX8; 4] = core::array::from_fn(|v| {
+                PermuteX8::new(
+                    n,
+                    u32x8::new(core::array::from_fn(|l| (v * 8 + l) as u32 * 977 + n)),
+                )
+            });
+            let idx: [u32x8; 4] = core::array::from_fn(|v| {
+                u32x8::new(core::array::from_fn(|l| {
+                    ((v * 8 + l) as u32 * 31 + 5) % n.max(1)
+                }))
+            });
+            let out = PermuteX8::apply4([&perms[0], &perms[1], &perms[2], &perms[3]], idx);
+            for v in 0..4 {
+                let (o, ia) = (out[v].to_array(), idx[v].to_array());
+                for l in 0..8 {
+                    let key = (v * 8 + l) as u32 * 977 + n;
+                    assert_eq!(o[l], permute(ia[l], n, key), "n {n} v {v} l {l}");
+                }
+            }
         }
     }
 

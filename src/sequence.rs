@@ -20,10 +20,10 @@
 //! |---|---|---|---|
 //! | [`Sobol<D>`] | `2³²` (the whole sequence) | 16 ([`SOBOL_DIMENSIONS`]) | `O(1)`: two hash scrambles and a 32-bit matrix product per coordinate |
 //! | [`Halton<D>`] | `2³²` (the whole sequence) | 16 ([`HALTON_DIMENSIONS`]) | `O(K_b)` per coordinate, `K_b ≤ 32` base-`b` digits |
-//! | [`Random<D>`] | `N` | `D` | `O(log k)`: PCG32 jump-ahead to output `k·D` (Brown 1994) |
-//! | [`Jittered<D>`] | `N` | `D` | `O(log k)` jump-ahead plus the cell of `k` (`D` divisions) |
-//! | [`NRooks<D>`] | `N` | `D` | `O(log k)` jump-ahead plus one hash permutation per axis (`O(1)` expected, [`crate::hash::permute`]) |
-//! | [`MultiJittered`] | `N` | 2 | `O(log k)` jump-ahead plus two hash permutations |
+//! | [`Random<D>`] | `N` | `D` | `O(1)`: outputs `k·D + j` of the counter-based stream ([`crate::rng::Counter`]) |
+//! | [`Jittered<D>`] | `N` | `D` | `O(1)`: counter outputs plus the cell of `k` (`D` divisions) |
+//! | [`NRooks<D>`] | `N` | `D` | counter outputs plus one hash permutation per axis (`O(1)` expected, [`crate::hash::permute`]) |
+//! | [`MultiJittered`] | `N` | 2 | counter outputs plus two hash permutations |
 //! | [`CorrelatedMultiJittered`] | `N` | 2 | as [`MultiJittered`] (Kensler 2013 designed CMJ for random access) |
 //! | [`Shifted<P>`] | as `P` | as `P` | as `P`, plus the shift |
 //!
@@ -103,8 +103,8 @@
 //! References: B. Burley, *Practical Hash-based Owen Scrambling*, JCGT 9(4),
 //! 2020; A. Kensler, *Correlated Multi-Jittered Sampling*, Pixar Technical Memo
 //! 13-01, 2013; T. Kollig, A. Keller, *Efficient Multidimensional Sampling*,
-//! Computer Graphics Forum 21(3), 2002; F. B. Brown, *Random Number Generation
-//! with Arbitrary Strides*, Trans. Am. Nucl. Soc. 71, 1994.
+//! Computer Graphics Forum 21(3), 2002; J. K. Salmon et al., *Parallel Random
+//! Numbers: As Easy as 1, 2, 3*, SC 2011.
 //!
 //! [`PoissonDisk`]: crate::pattern::PoissonDisk
 

@@ -259,6 +259,136 @@ fn bad_input_is_an_error() {
 }
 
 // ---------------------------------------------------------------------------
+// Spatial quality: normalised minimum and mean nearest-neighbour distances.
+
+/// `(δ_min, δ_avg)`: the smallest and the mean toroidal nearest-neighbour
+/// distance of a 2D point set, in units of the hexagonal packing distance
+/// `d_hex = √(2/(√3·N))` (Schlömer, Heck & Deussen 2011). Brute force.
+fn deltas(p: &[[f64; 2]]) -> (f64, f64) {
+    let n = p.len();
+    let mut dmin2 = f64::INFINITY;
+    let mut sum = 0.0;
+    for (i, a) in p.iter().enumerate() {
+        let mut best = f64::INFINITY;
+        for (j, b) in p.iter().enumerate() {
+            if i != j {
+                let dx = wrap(a[0] - b[0]);
+                let dy = wrap(a[1] - b[1]);
+                best = best.min(dx * dx + dy * dy);
+            }
+        }
+        dmin2 = dmin2.min(best);
+        sum += best.sqrt();
+    }
+    let dhex = (2.0 / (3f64.sqrt() * n as f64)).sqrt();
+    (dmin2.sqrt() / dhex, sum / n as f64 / dhex)
+}
+
+/// Checks a quality setting at N = 1024 over seeds 0 and 1: both runs are
+/// stable CCVTs with exact capacities and centroidal sites, every set has
+/// `δ_min ≥ min_floor`, and the mean `δ_avg` over the two seeds is at least
+/// `avg_floor`.
+fn check_quality(p: &Ccvt<2>, c: usize, min_floor: f64, avg_floor: f64) {
+    let mut avg = 0.0;
+    for seed in 0..2u64 {
+        let r = p.generate(Seed::new(seed));
+        assert!(r.converged(), "seed {seed}: not stable");
+        assert!(r.capacities().iter().all(|&k| k == c));
+        assert!(max_centroid_offset(&r) < 1e-9);
+        let (dmin, davg) = deltas(r.sites_f64());
+        println!("c = {c}, seed {seed}: δ_min = {dmin:.4}, δ_avg = {davg:.4}");
+        assert!(
+            dmin >= min_floor,
+            "seed {seed}: δ_min = {dmin:.4} < {min_floor}"
+        );
+        avg += davg / 2.0;
+    }
+    assert!(avg >= avg_floor, "mean δ_avg = {avg:.4} < {avg_floor}");
+}
+
+// Thresholds. Measured at N = 1024 (release build, `cargo run --release
+// --example ccvt_quality -- --sweep`, 4–8 seeds): fast δ_min 0.636 ± 0.008,
+// δ_avg 0.818 ± 0.001; standard 0.692 ± 0.004 / 0.845 ± 0.001; high
+// 0.739 ± 0.006 / 0.866 ± 0.001 (mean ± s.e.; seed-to-seed s.d. of δ_avg ≈
+// 0.003, of δ_min ≈ 0.012–0.02). The values are deterministic for the fixed
+// seeds; the floors sit ≥ 3 seed-to-seed s.d. below the means (a new build or
+// platform that perturbs the run would fail with probability ≲ 1e-3 per
+// check), and each δ_avg floor lies above the mean of the next lower setting
+// by ≥ 5 s.d. of a two-seed mean, so a setting that silently falls back to a
+// lower capacity (or runs without swaps: δ_avg ≈ 0.5–0.7) fails.
+
+#[test]
+fn quality_fast_default() {
+    let p = Ccvt::<2>::new(1024).unwrap();
+    assert_eq!(p, Ccvt::<2>::new(1024).unwrap().fast_quality().unwrap());
+    check_quality(&p, 64, 0.58, 0.810);
+}
+
+#[test]
+fn quality_standard() {
+    let p = Ccvt::<2>::new(1024).unwrap().standard_quality().unwrap();
+    assert_eq!(p.capacity_per_site(), 256);
+    check_quality(&p, 256, 0.64, 0.835);
+}
+
+/// ≈ 13 s in the test profile (two sets at c = 1024).
+#[test]
+fn quality_high() {
+    let p = Ccvt::<2>::new(1024).unwrap().high_quality().unwrap();
+    assert_eq!(p.capacity_per_site(), 1024);
+    check_quality(&p, 1024, 0.69, 0.857);
+}
+
+#[test]
+fn warm_start_gives_a_stable_ccvt() {
+    // Coarse-to-fine runs (c = 256 after c = 64) are still exact CCVTs, and
+    // deterministic; the discrete density of the final stage is the one of
+    // the cold run, so only the sites differ.
+    let cold = Ccvt::<2>::new(128).unwrap().capacity(256).unwrap();
+    let warm = cold.clone().warm_start(true);
+    let a = warm.generate(Seed::new(3));
+    assert!(a.converged());
+    assert!(a.capacities().iter().all(|&k| k == 256));
+    assert!(max_centroid_offset(&a) < 1e-9);
+    assert_eq!(a.sites(), warm.generate(Seed::new(3)).sites());
+    let b = cold.generate(Seed::new(3));
+    assert_eq!(a.discrete_points(), b.discrete_points());
+    assert_ne!(a.sites(), b.sites());
+    // Below c = 256 there is no coarser stage: warm start changes nothing.
+    let small = Ccvt::<2>::new(128).unwrap();
+    assert_eq!(
+        small.generate(Seed::new(4)).sites(),
+        small
+            .clone()
+            .warm_start(true)
+            .generate(Seed::new(4))
+            .sites()
+    );
+    // 3D too.
+    let r3 = Ccvt::<3>::new(64)
+        .unwrap()
+        .standard_quality()
+        .unwrap()
+        .generate(Seed::new(5));
+    assert!(r3.converged());
+    assert!(r3.capacities().iter().all(|&k| k == 256));
+}
+
+#[test]
+fn quality_settings_reject_too_many_points() {
+    // N·c ≤ 2³¹: N = 2²² allows c ≤ 512, so high (1024) is an error.
+    let p = Ccvt::<2>::new(1 << 22).unwrap();
+    assert!(p.clone().standard_quality().is_ok());
+    assert!(matches!(
+        p.high_quality().unwrap_err(),
+        PatternError::Parameter {
+            name: "capacity",
+            ..
+        }
+    ));
+}
+
+// ---------------------------------------------------------------------------
 // Convergence signature.
 
 const SIGMA: f64 = 0.1;

@@ -712,10 +712,10 @@ fn values_are_stable_across_builds() {
     // same bits. A change here changes every published result: update on purpose.
     const SOBOL_0: u32 = 0x3f52_4a54;
     const SOBOL_LAST: u32 = 0x3f70_3e23;
-    const HALTON_0: u32 = 0x3f7f_b8ef;
-    const HALTON_LAST: u32 = 0x3ea5_9096;
+    const HALTON_0: u32 = 0x3e4c_f20b;
+    const HALTON_LAST: u32 = 0x3f70_a49f;
     const SOBOL_HASH: u64 = 0xe993_4dea_22aa_08e7;
-    const HALTON_HASH: u64 = 0x0cd8_3814_1256_3be1;
+    const HALTON_HASH: u64 = 0x7f63_33b3_ad00_d8c6;
     let seed = Seed(0x5EED);
     assert_eq!(Sobol::sample(0, 0, seed).to_bits(), SOBOL_0);
     assert_eq!(Sobol::sample(u32::MAX, 15, seed).to_bits(), SOBOL_LAST);

@@ -34,7 +34,7 @@
 //! that the accuracy tests check against independent references.
 
 use linesample::pattern::{
-    CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Random, Sobol,
+    CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Pmj02, Random, Sobol,
 };
 use linesample::Seed;
 
@@ -69,18 +69,22 @@ fn pinned_pattern_hashes() {
         ),
         ("sobol3", fnv(&Sobol::<3>::new(1000).unwrap())),
         ("halton3", fnv(&Halton::<3>::new(1000).unwrap())),
+        ("pmj02", fnv(&Pmj02::new(1000).unwrap())),
+        ("pmj02bn", fnv(&Pmj02::blue_noise(1000).unwrap())),
     ];
-    let want: [(&str, u64); 10] = [
-        ("random2", 0x0343f5a28c040fc0),
-        ("random3", 0x0af396c96c9cdf85),
-        ("jittered2", 0x6ecefd0db465393e),
-        ("jittered3", 0x374d3681f0864a59),
-        ("nrooks3", 0x37e671758fb62a33),
-        ("mj", 0xe7f0a89fbc5868f8),
-        ("cmj", 0x5e9464558335f6af),
-        ("cmj-shifted", 0xbdc925a5a9f3704f),
+    let want: [(&str, u64); 12] = [
+        ("random2", 0xb443c0f4d8aff1fe),
+        ("random3", 0x388f764a6390dab2),
+        ("jittered2", 0xa860f58dd289230b),
+        ("jittered3", 0xc5b4bce7a41703d3),
+        ("nrooks3", 0xe2e939b7e3ff11b5),
+        ("mj", 0xd195b3fd5f49dfcd),
+        ("cmj", 0xf16b9807447ff843),
+        ("cmj-shifted", 0xd020d8fe7fcf4e7e),
         ("sobol3", 0x9dead7a7bebd9111),
-        ("halton3", 0x6a3e4cf2c812002f),
+        ("halton3", 0xc445d2a463e8c47b),
+        ("pmj02", 0x79c94e082e92c2be),
+        ("pmj02bn", 0x7c610cb738140349),
     ];
     for g in &got {
         println!("        (\"{}\", {:#018x}),", g.0, g.1); // to re-pin deliberately
@@ -248,11 +252,11 @@ fn pinned_poisson_disk_and_ccvt() {
     let want: &[(&str, u64)] = &[
         ("poisson1-r", 0xd78e9fb664f5af56),
         ("poisson2-r", 0xf1325d8bfa88f958),
-        ("poisson2-dart", 0xaa460cc6b1ceb21d),
+        ("poisson2-dart", 0x936c4e1bdc3a3d72),
         ("poisson3-r", 0x261ce37d1d369f9b),
         ("poisson2-for_n", 0xf8197e4c0feaddde),
-        ("poisson2-generate_n", 0x499803e693fd7ea4),
-        ("poisson3-generate_n-dart", 0x32b2c2445d9f2321),
+        ("poisson2-generate_n", 0xd489197972dddc89),
+        ("poisson3-generate_n-dart", 0x82d3d4d18322f5cf),
         ("ccvt2", 0xf5ba9e7a46954a66),
         ("ccvt3", 0xe9db9c6b45a00f05),
     ];
@@ -350,12 +354,12 @@ fn pinned_spectrum_amplitudes() {
         ),
     ];
     let want: &[(&str, u64)] = &[
-        ("dft1-points", 0x7d6421c9c4a4c11c),
-        ("dft2-points", 0xedcd5c2a48c90a0a),
-        ("dft3-points", 0x94f372d97afc7507),
-        ("dft2-segment-pattern", 0x76a84d4ca6dc7f42),
-        ("dft3-segments", 0x55c3864aac14b832),
-        ("periodogram2-radial", 0x6f6d9dde35a0a849),
+        ("dft1-points", 0xe7e57514c25694eb),
+        ("dft2-points", 0x0841fdbc505ac1a2),
+        ("dft3-points", 0xd8fe7ded41cdfb8e),
+        ("dft2-segment-pattern", 0x7c40d6fddc37006a),
+        ("dft3-segments", 0x4c81c234926033fd),
+        ("periodogram2-radial", 0x6ee6fba2f9234ae3),
     ];
     check_pins(&got, want);
 }
@@ -516,13 +520,13 @@ fn pinned_estimator_outputs() {
         ),
     ];
     let want: &[(&str, u64)] = &[
-        ("point2-jit-disk", 0x7e30c318c78f24ca),
-        ("point2-jit-disk-h", 0x10485ee7ee644ee4),
-        ("point3-rnd-sphere", 0x48907ed6e0265212),
-        ("segment2-fixed-gauss", 0xcfd2bfcb81f26e1d),
-        ("segment3-random-sphere", 0x1acf697599698109),
-        ("line2-random-disk", 0x5aacf883cb929f5a),
-        ("line3-groups-sphere", 0x47c43e7f8b00bc76),
+        ("point2-jit-disk", 0xa795193d80df8862),
+        ("point2-jit-disk-h", 0x4456e65c48d5e7db),
+        ("point3-rnd-sphere", 0xce8b994b4f046200),
+        ("segment2-fixed-gauss", 0x16865f7a36b2aff3),
+        ("segment3-random-sphere", 0x1c10db128c4569b8),
+        ("line2-random-disk", 0xbbc6b2fe82c0d3a1),
+        ("line3-groups-sphere", 0x9dac91111e333632),
     ];
     check_pins(&got, want);
 }
@@ -547,12 +551,25 @@ fn pinned_seed_and_pcg_streams() {
         .collect();
     let mut from_seed = s.pcg(0x1234);
     let seed_pcg: Vec<u32> = (0..16).map(|_| from_seed.next_u32()).collect();
+    // The counter-based pattern generator: outputs around 0, a 2^32 boundary
+    // (a carry into c_hi) and 2^64 - 1, and eight lanes with stride 3.
+    let ctr = s.counter(0x1234);
+    let counter: Vec<u32> = [0u64, (1 << 32) - 8, u64::MAX - 7]
+        .iter()
+        .flat_map(|&t0| (0..16).map(move |t| ctr.at(t0.wrapping_add(t))))
+        .collect();
+    let mut clanes = ctr.lanes(5, 3);
+    let counter_lanes: Vec<u32> = (0..8)
+        .flat_map(|_| clanes.next_u32x8().to_array())
+        .collect();
     let got = [
         ("pcg32", Fnv::new().u32s(pcg_out).0),
         ("pcg32-advance", Fnv::new().u32s(jumped_out).0),
         ("pcg32x8", Fnv::new().u32s(lane_out).0),
         ("seed-derivations", Fnv::new().u64s(seeds).0),
         ("seed-pcg", Fnv::new().u32s(seed_pcg).0),
+        ("counter", Fnv::new().u32s(counter).0),
+        ("counter-lanes", Fnv::new().u32s(counter_lanes).0),
         (
             "mix",
             Fnv::new()
@@ -567,6 +584,8 @@ fn pinned_seed_and_pcg_streams() {
         ("pcg32x8", 0xe4ae42f3f148ea74),
         ("seed-derivations", 0xb7f50281d127c206),
         ("seed-pcg", 0x4847a15fd1a00845),
+        ("counter", 0x98b3879611552c9f),
+        ("counter-lanes", 0x8886103589358233),
         ("mix", 0x5f55af1f4f30e185),
     ];
     check_pins(&got, want);

@@ -3,15 +3,15 @@
 use super::sealed::{Generate, Sink};
 use super::{advance8, build, check_dims, drive8, lanes_of, odometer_step, Strata, MAX_STRATA};
 use crate::error::PatternError;
-use crate::rng::{Pcg32x8, Seed};
+use crate::rng::{CounterX8, Seed};
 use wide::{f32x8, u32x8};
 
 /// Jittered sampling: the unit cube is cut into `m₁×…×m_D` equal cells and each
 /// cell gets one uniform point, `x_j = (c_j + u_j)/m_j`.
 ///
 /// Point `k` lies in cell `c` with `k = c₁ + m₁·(c₂ + m₂·c₃)` (axis 1 fastest).
-/// The jitter `u_j` of point `k` comes from output `k·D + j` of the PCG32 stream
-/// `seed.pcg(JITTER)`. Exact cell membership of the `f32` coordinates is
+/// The jitter `u_j` of point `k` comes from output `k·D + j` of the counter-based
+/// stream `seed.counter(JITTER)` ([`Counter`](crate::rng::Counter)). Exact cell membership of the `f32` coordinates is
 /// guaranteed (see the [module docs](super)).
 ///
 /// Variance for smooth integrands falls as `O(N^{-1-2/D})`, for integrands with a
@@ -109,10 +109,10 @@ impl<const D: usize> Generate<D> for Jittered<D> {
     }
 
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let base = seed.pcg(PURPOSE);
+        let key = seed.counter(PURPOSE);
         let d = D as u64;
-        let mut lanes: [Pcg32x8; D] =
-            core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
+        let mut lanes: [CounterX8; D] =
+            core::array::from_fn(|j| key.lanes(first * d + j as u64, d));
         let axes: [Strata; D] = self.strata.map(Strata::new);
         let vm: [u32x8; D] = self.strata.map(u32x8::splat);
         // Per-lane cell counters for points first + l, advanced by 8 per block.
@@ -127,11 +127,12 @@ impl<const D: usize> Generate<D> for Jittered<D> {
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
+        let key = seed.counter(PURPOSE);
         let axes: [Strata; D] = self.strata.map(Strata::new);
         let mut cell = self.cell_of(first);
         for i in 0..sink.len() {
-            let p = build(0.0, |j| axes[j].point(cell[j], g.next_u32()));
+            let t = (first + i as u64) * D as u64;
+            let p = build(0.0, |j| axes[j].point(cell[j], key.at(t + j as u64)));
             sink.put(i, p);
             odometer_step(&mut cell, &self.strata);
         }

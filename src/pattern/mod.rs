@@ -28,6 +28,8 @@
 //! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing), toroidal | 1–3 | from the radius |
 //! | `PoissonDiskN`: exactly `N` points of a [`PoissonDisk`] set (`alloc` feature; each fill generates the whole set) | 1–3 | `≤` [`PoissonDisk::max_points`] |
 //! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
+//! | [`Pmj02`] (progressive multi-jittered (0,2), Christensen et al. 2018; Pharr 2019): every power-of-two prefix stratified in all elementary intervals (`Pattern` with the `alloc` feature; each fill generates the prefix) | 2 | `≤ 2²⁴` |
+//! | [`Pmj02::blue_noise`] (PMJ02BN: best candidate, Christensen et al. 2018) | 2 | `≤ 2²⁴` |
 //!
 //! Point `k` of the random-access patterns (all of the above but Poisson disk and
 //! CCVT) can also be computed on its own, without the others:
@@ -42,6 +44,7 @@ mod halton;
 mod jittered;
 pub mod multijitter;
 mod nrooks;
+mod pmj;
 mod poisson;
 mod random;
 mod sobol;
@@ -58,10 +61,11 @@ pub use halton::{radical_inverse, Halton, HALTON_BASES, HALTON_DIMENSIONS};
 pub use jittered::Jittered;
 pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
 pub use nrooks::NRooks;
+pub use pmj::{Pmj02, PMJ02BN_DEFAULT_CANDIDATES, PMJ02BN_MAX_CANDIDATES, PMJ02_MAX_POINTS};
 #[cfg(feature = "alloc")]
 pub use poisson::PoissonDiskN;
 pub use poisson::{
-    poisson_max_radius, PoissonDisk, PoissonMethod, BRIDSON_DEFAULT_CANDIDATES,
+    poisson_max_radius, PoissonDisk, PoissonMethod, PoissonN, BRIDSON_DEFAULT_CANDIDATES,
     BRIDSON_MAX_CANDIDATES, POISSON_MAX_CELLS, POISSON_MAX_CELLS_1D,
 };
 pub use random::Random;
@@ -258,6 +262,40 @@ impl<const D: usize> Sink<D> for Soa<'_, D> {
     }
 }
 
+/// Drives a generator of four blocks of 8 points at a time (so that independent
+/// hash chains of the four can overlap in the CPU): full groups of 32 points go
+/// out with `put8`; the last, partial group is generated whole and written point
+/// by point. `block4` must therefore accept running past the end (its lanes past
+/// `N` are discarded).
+#[inline(always)]
+pub(crate) fn drive32<const D: usize, S: Sink<D>>(
+    sink: &mut S,
+    mut block4: impl FnMut() -> [[f32x8; D]; 4],
+) {
+    let n = sink.len();
+    let mut i = 0;
+    while i + 32 <= n {
+        let v = block4();
+        sink.put8(i, v[0]);
+        sink.put8(i + 8, v[1]);
+        sink.put8(i + 16, v[2]);
+        sink.put8(i + 24, v[3]);
+        i += 32;
+    }
+    if i < n {
+        let v = block4();
+        for (b, vb) in v.into_iter().enumerate() {
+            let a: [[f32; 8]; D] = build([0.0; 8], |j| vb[j].to_array());
+            for l in 0..8 {
+                let k = i + 8 * b + l;
+                if k < n {
+                    sink.put(k, build(0.0, |j| a[j][l]));
+                }
+            }
+        }
+    }
+}
+
 /// Drives a block generator: calls `block(b)` for consecutive blocks of 8 points and
 /// writes full blocks with `put8`, the last partial block point by point.
 #[inline(always)]
@@ -447,105 +485,125 @@ pub(crate) fn unit_f64(bits: u64) -> f64 {
     (bits >> 11) as f64 * (1.0 / 9_007_199_254_740_992.0)
 }
 
-/// `x = (cell + u)/m` rounded to an `f32` that lies in the stratum
-/// `[cell/m, (cell+1)/m)` exactly, with `u = ⌊bits/2⌋·2⁻³¹ ∈ [0, 1)`.
-///
-/// The value is formed in `f64` (error below 2⁻⁵⁰), rounded to the nearest `f32`,
-/// and moved by one ulp if the rounding crossed a stratum boundary; the test
-/// `v·m` is exact in `f64` (48-bit product). Requires `cell < m ≤ 2²⁴`: wider
-/// grids have strata narrower than an `f32` ulp near 1.
-#[inline(always)]
-#[must_use]
-pub(crate) fn stratum_f32(cell: u32, bits: u32, m: f64, inv_m: f64) -> f32 {
-    let u = f64::from(bits >> 1) * (1.0 / 2_147_483_648.0);
-    let x = (f64::from(cell) + u) * inv_m;
-    into_stratum(x as f32, cell, m)
-}
-
-/// Moves `v` by one ulp back into `[cell/m, (cell+1)/m)` if rounding left it.
-#[inline(always)]
-fn into_stratum(v: f32, cell: u32, m: f64) -> f32 {
-    let t = f64::from(v) * m;
-    let c = f64::from(cell);
-    if t >= c + 1.0 {
-        f32::from_bits(v.to_bits() - 1)
-    } else if t < c {
-        f32::from_bits(v.to_bits() + 1)
-    } else {
-        v
-    }
-}
-
 /// One axis cut into `m` strata: maps `(cell, random bits)` to an `f32` inside the
 /// stratum `[cell/m, (cell+1)/m)`, exactly.
 ///
-/// Fast path, in `f32`: `v = (c + U·2⁻²⁴)·fl(1/m)` with `U = bits ≫ 8`. Its three
-/// roundings move `v` by less than `3.01·2⁻²⁴` from `(c + u)/m`, so when
-/// `4m ≤ U ≤ 2²⁴ − 4m` the point is more than that away from both stratum edges
-/// and `v` is provably inside. Otherwise (probability `8m/2²⁴`, or always when
-/// `m ≥ 2²¹`) the exact `f64` construction [`stratum_f32`] is used. The choice
-/// depends only on the bits, so the scalar and SIMD paths agree bit for bit.
+/// The value is `v = (c + U·2⁻²⁴)·fl(1/m)` in `f32`, with `U = bits ≫ 8`. Its
+/// three roundings move `v` by at most `3.01·2⁻²⁴·v`, i.e. about three ulps,
+/// from `(c + u)/m`, so when `4m ≤ U ≤ 2²⁴ − 4m` the point is provably inside
+/// its stratum and `v` is returned. Otherwise (probability `8m/2²⁴`, or always
+/// when `m ≥ 2²¹`) membership is tested exactly and `v` moved by one ulp at a
+/// time (at most four) until it is inside: `v·m = p + e` exactly by Dekker's
+/// product with Veltkamp splits (Dekker 1971; no fused multiply-add, so every
+/// build gives the same bits), and `(p − c) + e` has the sign of `v·m − c`
+/// (`p − c` is exact: `c` is an integer near `p`). Both tests and the moves run
+/// in `f32` lanes; the scalar path does the same operations, so the two agree
+/// bit for bit.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Strata {
-    m: f64,
-    inv: f64,
+    m: f32,
+    m_hi: f32,
+    m_lo: f32,
     inv32: f32,
-    lo: u32,
-    hi: u32,
+    lo: i32,
+    hi: i32,
 }
+
+/// Veltkamp's splitting constant for `f32`, `2¹² + 1`: `a = hi + lo` with both
+/// halves of at most 12 significant bits.
+const SPLIT_F32: f32 = 4097.0;
 
 impl Strata {
     /// `m` strata, `1 ≤ m ≤ 2²⁴`.
     pub(crate) fn new(m: u32) -> Self {
         let d = 4 * u64::from(m);
         let (lo, hi) = if d >= 1 << 23 {
-            (u32::MAX, 0)
+            (i32::MAX, i32::MIN)
         } else {
-            (d as u32, (1 << 24) - d as u32)
+            (d as i32, (1 << 24) - d as i32)
         };
+        let mf = m as f32; // exact: m ≤ 2²⁴
+        let t = mf * SPLIT_F32;
+        let m_hi = t - (t - mf);
         Self {
-            m: f64::from(m),
-            inv: 1.0 / f64::from(m),
-            inv32: 1.0 / m as f32,
+            m: mf,
+            m_hi,
+            m_lo: mf - m_hi,
+            inv32: 1.0 / mf,
             lo,
             hi,
         }
     }
 
+    /// `(v·m < c, v·m ≥ c + 1)`, exactly.
+    #[inline(always)]
+    fn outside(&self, v: f32, c: f32) -> (bool, bool) {
+        let p = v * self.m;
+        let t = v * SPLIT_F32;
+        let vh = t - (t - v);
+        let vl = v - vh;
+        let e = ((vh * self.m_hi - p) + vh * self.m_lo + vl * self.m_hi) + vl * self.m_lo;
+        ((p - c) + e < 0.0, (p - (c + 1.0)) + e >= 0.0)
+    }
+
     /// The coordinate of a point of stratum `cell` with jitter `bits`.
     #[inline(always)]
     pub(crate) fn point(&self, cell: u32, bits: u32) -> f32 {
-        let u = bits >> 8;
+        let u = (bits >> 8) as i32;
+        let c = cell as f32;
+        let mut v = (c + u as f32 * (1.0 / 16_777_216.0)) * self.inv32;
         if u >= self.lo && u <= self.hi {
-            (cell as f32 + u as f32 * (1.0 / 16_777_216.0)) * self.inv32
-        } else {
-            stratum_f32(cell, bits, self.m, self.inv)
+            return v;
+        }
+        loop {
+            match self.outside(v, c) {
+                (true, _) => v = f32::from_bits(v.to_bits() + 1),
+                (_, true) => v = f32::from_bits(v.to_bits() - 1),
+                _ => return v,
+            }
         }
     }
 
     /// Lane-wise [`Strata::point`].
     #[inline(always)]
     pub(crate) fn point_x8(&self, cell: wide::u32x8, bits: wide::u32x8) -> f32x8 {
-        let u: wide::u32x8 = bits >> 8;
+        let u: wide::i32x8 = bytemuck::cast(bits >> 8);
         let c = f32x8::from_i32x8(bytemuck::cast(cell));
-        let uf = f32x8::from_i32x8(bytemuck::cast(u)) * f32x8::splat(1.0 / 16_777_216.0);
+        let uf = f32x8::from_i32x8(u) * f32x8::splat(1.0 / 16_777_216.0);
         let v = (c + uf) * f32x8::splat(self.inv32);
-        let slow = u.simd_lt(wide::u32x8::splat(self.lo)) | u.simd_gt(wide::u32x8::splat(self.hi));
+        let slow = u.simd_lt(wide::i32x8::splat(self.lo)) | u.simd_gt(wide::i32x8::splat(self.hi));
         if !slow.any() {
             return v;
         }
-        let (mut va, sa, ca, ba) = (
-            v.to_array(),
-            slow.to_array(),
-            cell.to_array(),
-            bits.to_array(),
+        self.fix_x8(v, c)
+    }
+
+    /// The exact test and the one-ulp moves of [`Strata::point`], in lanes (a
+    /// lane that is inside stays put, so the fast lanes are unchanged).
+    #[inline(never)]
+    fn fix_x8(&self, mut v: f32x8, c: f32x8) -> f32x8 {
+        let (m, m_hi, m_lo) = (
+            f32x8::splat(self.m),
+            f32x8::splat(self.m_hi),
+            f32x8::splat(self.m_lo),
         );
-        for l in 0..8 {
-            if sa[l] != 0 {
-                va[l] = stratum_f32(ca[l], ba[l], self.m, self.inv);
+        let one = wide::i32x8::splat(1);
+        loop {
+            let p = v * m;
+            let t = v * f32x8::splat(SPLIT_F32);
+            let vh = t - (t - v);
+            let vl = v - vh;
+            let e = ((vh * m_hi - p) + vh * m_lo + vl * m_hi) + vl * m_lo;
+            let below: wide::i32x8 = bytemuck::cast(((p - c) + e).simd_lt(f32x8::ZERO));
+            let above: wide::i32x8 =
+                bytemuck::cast(((p - (c + f32x8::ONE)) + e).simd_ge(f32x8::ZERO));
+            if !(below | above).any() {
+                return v;
             }
+            // below/above are all-ones (−1) masks: +1 ulp where below, −1 where above.
+            let bits: wide::i32x8 = bytemuck::cast(v);
+            v = bytemuck::cast(bits + (below & one) - (above & one));
         }
-        f32x8::new(va)
     }
 }
 
@@ -608,7 +666,8 @@ pub(crate) fn lanes_of<const D: usize>(f: impl Fn(usize) -> [u32; D]) -> [wide::
     core::array::from_fn(|j| wide::u32x8::new(core::array::from_fn(|l| pts[l][j])))
 }
 
-/// Largest per-axis stratum count [`stratum_f32`] handles exactly.
+/// Largest per-axis stratum count [`Strata`] handles exactly (`f32` strata of
+/// one ulp near 1).
 pub(crate) const MAX_STRATA: u64 = 1 << 24;
 
 #[cfg(test)]
@@ -629,7 +688,7 @@ mod tests {
             1 << 24,
             (1 << 24) - 3,
         ] {
-            let (mf, inv) = (f64::from(m), 1.0 / f64::from(m));
+            let (mf, strata) = (f64::from(m), Strata::new(m));
             for cell in [0, 1, m / 2, m.saturating_sub(2), m - 1] {
                 if cell >= m {
                     continue;
@@ -643,7 +702,7 @@ mod tests {
                     0xFFFF_FFFF,
                     0x8000_0000,
                 ] {
-                    let v = stratum_f32(cell, bits, mf, inv);
+                    let v = strata.point(cell, bits);
                     let t = f64::from(v) * mf;
                     assert!((0.0..1.0).contains(&v));
                     assert!(
@@ -651,6 +710,43 @@ mod tests {
                         "m {m} cell {cell} bits {bits:#x}: {v}"
                     );
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn strata_exact_path_over_random_cells() {
+        // Random (m, cell, bits) across the whole range of m, with the SIMD lanes
+        // against the scalar path and both against an exact f64 membership test
+        // (v·m is exact in f64: 24 × 24 bits).
+        let mut x = 0x1234_5678u32;
+        let mut next = || {
+            x = crate::rng::mix32(x.wrapping_add(0x9E37_79B9));
+            x
+        };
+        for _ in 0..4000 {
+            let m = match next() % 4 {
+                0 => 1 + next() % 64,
+                1 => 1 + next() % (1 << 16),
+                2 => (1 << 20) + next() % (1 << 20),
+                _ => (1 << 24) - next() % 1024,
+            };
+            let s = Strata::new(m);
+            let cells: [u32; 8] = core::array::from_fn(|_| next() % m);
+            let bits: [u32; 8] = core::array::from_fn(|_| next());
+            let v8 = s
+                .point_x8(wide::u32x8::new(cells), wide::u32x8::new(bits))
+                .to_array();
+            for l in 0..8 {
+                let v = s.point(cells[l], bits[l]);
+                assert_eq!(v8[l].to_bits(), v.to_bits(), "m {m} lane {l}");
+                let t = f64::from(v) * f64::from(m);
+                assert!(
+                    t >= f64::from(cells[l]) && t < f64::from(cells[l]) + 1.0 && v < 1.0,
+                    "m {m} cell {} bits {:#x}: {v}",
+                    cells[l],
+                    bits[l]
+                );
             }
         }
     }

@@ -22,11 +22,11 @@
 //! Technical Memo 13-01 (2013).
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, check_n, drive8, lanes_of, Strata, MAX_STRATA};
+use super::{advance8, build, check_n, drive32, lanes_of, Strata, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{permute, permute_x8};
-use crate::rng::{Pcg32x8, Seed};
-use wide::u32x8;
+use crate::hash::{permute, PermuteX8};
+use crate::rng::{CounterX8, Seed};
+use wide::{f32x8, u32x8};
 
 const PURPOSE: u64 = 0x4D4A_4954;
 
@@ -85,9 +85,9 @@ impl Grid {
     }
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let base = seed.pcg(PURPOSE);
-        let mut lanes: [Pcg32x8; 2] =
-            core::array::from_fn(|j| Pcg32x8::new(&base, first * 2 + j as u64, 2));
+        let key = seed.counter(PURPOSE);
+        let mut lanes: [CounterX8; 2] =
+            core::array::from_fn(|j| key.lanes(first * 2 + j as u64, 2));
         let (kx, ky, step) = self.keys(seed);
         let (m, n) = (self.cols, self.rows);
         let axis = Strata::new(m * n);
@@ -100,21 +100,51 @@ impl Grid {
             ]
         });
         let (vm, vn, vstep) = (u32x8::splat(m), u32x8::splat(n), u32x8::splat(step));
-        drive8(sink, || {
-            let [i, j] = cell;
-            let px = permute_x8(j, n, u32x8::splat(kx) + i * vstep);
-            let py = permute_x8(i, m, u32x8::splat(ky) + j * vstep);
-            let out = [
-                axis.point_x8(i * vn + px, lanes[0].next_u32x8()),
-                axis.point_x8(j * vm + py, lanes[1].next_u32x8()),
-            ];
-            advance8(&mut cell, &radix);
-            out
+        // Correlated: one key per axis for every lane, so the round keys are
+        // computed once; otherwise per column / row, per block.
+        let fixed = (
+            PermuteX8::new(n, u32x8::splat(kx)),
+            PermuteX8::new(m, u32x8::splat(ky)),
+        );
+        let correlated = self.correlated;
+        drive32(sink, || {
+            let cells: [[u32x8; 2]; 4] = build([u32x8::ZERO; 2], |_| {
+                let c = cell;
+                advance8(&mut cell, &radix);
+                c
+            });
+            let rows: [u32x8; 4] = build(u32x8::ZERO, |b| cells[b][1]);
+            let cols: [u32x8; 4] = build(u32x8::ZERO, |b| cells[b][0]);
+            let (px, py) = if correlated {
+                (
+                    PermuteX8::apply4([&fixed.0; 4], rows),
+                    PermuteX8::apply4([&fixed.1; 4], cols),
+                )
+            } else {
+                // One key per column (row) and lane: the round keys differ per
+                // vector, and four sets of them would not fit in registers, so
+                // each vector is permuted on its own.
+                (
+                    build(u32x8::ZERO, |b| {
+                        PermuteX8::new(n, u32x8::splat(kx) + cols[b] * vstep).apply(rows[b])
+                    }),
+                    build(u32x8::ZERO, |b| {
+                        PermuteX8::new(m, u32x8::splat(ky) + rows[b] * vstep).apply(cols[b])
+                    }),
+                )
+            };
+            build([f32x8::ZERO; 2], |b| {
+                let [i, j] = cells[b];
+                [
+                    axis.point_x8(i * vn + px[b], lanes[0].next_u32x8()),
+                    axis.point_x8(j * vm + py[b], lanes[1].next_u32x8()),
+                ]
+            })
         });
     }
 
     fn gen_scalar<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let mut g = seed.pcg(PURPOSE).advanced(first * 2);
+        let key = seed.counter(PURPOSE);
         let (kx, ky, step) = self.keys(seed);
         let (m, n) = (self.cols, self.rows);
         let axis = Strata::new(m * n);
@@ -124,8 +154,8 @@ impl Grid {
             let j = (k / u64::from(m)) as u32;
             let px = permute(j, n, kx.wrapping_add(i.wrapping_mul(step)));
             let py = permute(i, m, ky.wrapping_add(j.wrapping_mul(step)));
-            let x = axis.point(i * n + px, g.next_u32());
-            let y = axis.point(j * m + py, g.next_u32());
+            let x = axis.point(i * n + px, key.at(2 * k));
+            let y = axis.point(j * m + py, key.at(2 * k + 1));
             sink.put(t, [x, y]);
         }
     }

@@ -1,10 +1,10 @@
 //! N-rooks (Latin hypercube) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, check_n, drive8, Strata, MAX_STRATA};
+use super::{build, check_dims, check_n, drive32, Strata, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{permute, permute_x8};
-use crate::rng::{Pcg32x8, Seed};
+use crate::hash::{permute, PermuteX8};
+use crate::rng::{CounterX8, Seed};
 use wide::{f32x8, u32x8};
 
 /// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
@@ -45,22 +45,20 @@ impl<const D: usize> Generate<D> for NRooks<D> {
     }
 
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let base = seed.pcg(PURPOSE);
+        let key = seed.counter(PURPOSE);
         let d = D as u64;
-        let mut lanes: [Pcg32x8; D] =
-            core::array::from_fn(|j| Pcg32x8::new(&base, first * d + j as u64, d));
-        let keys = Self::keys(seed).map(u32x8::splat);
+        let mut lanes: [CounterX8; D] =
+            core::array::from_fn(|j| key.lanes(first * d + j as u64, d));
+        let perms = Self::keys(seed).map(|k| PermuteX8::new(self.n, u32x8::splat(k)));
         let axis = Strata::new(self.n);
         let n = self.n;
-        // Lanes past the end (last partial block) are wrapped into [0, n) and discarded.
+        // Lanes past the end (last partial group) are wrapped into [0, n) and discarded.
         let mut k = u32x8::new(core::array::from_fn(|l| {
             ((first + l as u64) % u64::from(n)) as u32
         }));
         let vn = u32x8::splat(n);
-        drive8(sink, || {
-            let out = build(f32x8::ZERO, |j| {
-                axis.point_x8(permute_x8(k, n, keys[j]), lanes[j].next_u32x8())
-            });
+        let mut step = || {
+            let cur = k;
             let mut next = k + u32x8::splat(8);
             loop {
                 let over = next.simd_ge(vn);
@@ -70,18 +68,31 @@ impl<const D: usize> Generate<D> for NRooks<D> {
                 next -= over & vn;
             }
             k = next;
-            out
+            cur
+        };
+        drive32(sink, || {
+            let ks: [u32x8; 4] = build(u32x8::ZERO, |_| step());
+            let cells: [[u32x8; 4]; D] =
+                build([u32x8::ZERO; 4], |j| PermuteX8::apply4([&perms[j]; 4], ks));
+            build([f32x8::ZERO; D], |b| {
+                build(f32x8::ZERO, |j| {
+                    axis.point_x8(cells[j][b], lanes[j].next_u32x8())
+                })
+            })
         });
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let mut g = seed.pcg(PURPOSE).advanced(first * D as u64);
+        let key = seed.counter(PURPOSE);
         let keys = Self::keys(seed);
         let axis = Strata::new(self.n);
         for i in 0..sink.len() {
-            let k = (first + i as u64) as u32;
+            let k = first + i as u64;
             let p = build(0.0, |j| {
-                axis.point(permute(k, self.n, keys[j]), g.next_u32())
+                axis.point(
+                    permute(k as u32, self.n, keys[j]),
+                    key.at(k * D as u64 + j as u64),
+                )
             });
             sink.put(i, p);
         }

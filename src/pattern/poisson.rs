@@ -3,7 +3,6 @@
 
 use super::{check_dims, odometer_step, unit_f32, ONE_MINUS_EPSILON};
 use crate::error::PatternError;
-use crate::hash::permute;
 use crate::num::{frac, to_unit_f32, torus_dist};
 use crate::rng::{Pcg32, Seed};
 
@@ -37,6 +36,18 @@ pub const BRIDSON_MAX_CANDIDATES: u32 = 1024;
 /// width `2⁻⁶` of the cell.
 const FILL_DEPTH: u32 = 6;
 
+/// Bits per axis of a packed sub-box corner (levels up to [`FILL_DEPTH`] `≤ 10`).
+const SUB_BITS: u32 = 10;
+/// Mask of one axis of a packed sub-box corner.
+const SUB_MASK: u32 = (1 << SUB_BITS) - 1;
+/// Darts per active box and level before refining: `DART_NUM / DART_DEN`
+/// (measured: `1` is as fast as `1/2` or `1/4` in 2D and 3D at `N ≈ 65536`).
+const DART_NUM: u64 = 1;
+/// Denominator of the dart budget per box (see [`DART_NUM`]).
+const DART_DEN: u64 = 1;
+/// Rounds of `State::clean` at one level before the bounded fallback.
+const MAX_ROUNDS: u32 = 16;
+
 /// Relative margin of the rejection test: a candidate is rejected when
 /// `d² < r²·(1 + CONFLICT_MARGIN)`.
 const CONFLICT_MARGIN: f64 = 1e-12;
@@ -44,14 +55,55 @@ const CONFLICT_MARGIN: f64 = 1e-12;
 /// Grid word marking an empty cell: not the bits of any `f32` in `[0, 1)`.
 const EMPTY: u32 = u32::MAX;
 
+/// Cell word of a removed (tombstoned) active box: not a packed cell (`g <
+/// 2^{32/D} − 1`).
+const DEAD: u32 = u32::MAX;
+
+/// Level of the coverage masks: each grid cell keeps one bit per sub-box of
+/// width `1/(g·2^MASK_LEVEL)`, `4^D ≤ 64` bits.
+const MASK_LEVEL: u32 = 2;
+
 /// Which Poisson-disk generator [`PoissonDisk`] runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum PoissonMethod {
     /// Bridson (2007): `O(N)`, dense, not maximal.
     #[default]
     Bridson,
-    /// Dart throwing (Dippé & Wold 1985; Cook 1986) finished to a maximal set.
+    /// Maximal Poisson-disk sampling: dart throwing (Dippé & Wold 1985; Cook
+    /// 1986) run until the torus is covered, with darts drawn only in
+    /// still-active boxes of the grid (Ebeida et al. 2011, 2012), so the
+    /// accepted points are exactly those of plain dart throwing.
     MaximalDartThrowing,
+}
+
+/// How [`PoissonDisk::generate_n`] (and [`PoissonDiskN`]) produce exactly `N`
+/// points.
+///
+/// References: B. Widom, *Random Sequential Addition of Hard Spheres to a
+/// Volume*, J. Chem. Phys. 44 (1966); J. Feder, *Random Sequential Adsorption*,
+/// J. Theor. Biol. 87 (1980); A. Lagae, P. Dutré, *A Comparison of Methods for
+/// Generating Poisson Disk Distributions*, Computer Graphics Forum 27(1), 2008;
+/// M. S. Ebeida et al., *Efficient Maximal Poisson-Disk Sampling*, SIGGRAPH 2011.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum PoissonN {
+    /// Sequential dart throwing (random sequential adsorption; Widom 1966,
+    /// Feder 1980; Lagae & Dutré 2008) **stopped at exactly `N` accepted
+    /// points**: each accepted point is uniform over the region not yet covered
+    /// by the disks of radius `r` around the earlier ones. The darts are drawn
+    /// only in still-active boxes of the background grid (Ebeida et al. 2011),
+    /// which keeps this exact and fast near saturation. The points are in
+    /// acceptance order, so a prefix of the set is itself the process stopped
+    /// earlier, and the set is the first `N` points of the
+    /// [`PoissonMethod::MaximalDartThrowing`] run for the same seed and radius
+    /// (whatever [`PoissonDisk::method`] is). If the process saturates (becomes
+    /// maximal) before `N` points, the result is [`PatternError::Shortfall`].
+    #[default]
+    SequentialDartThrowing,
+    /// A uniformly random `N`-subset of a whole run of [`PoissonDisk::method`]
+    /// (a maximal set, or Bridson's): "thinning". A subset of a Poisson-disk set
+    /// is one, but thinning a maximal set leaves holes, so its low-frequency
+    /// spectrum is higher than that of sequential dart throwing stopped at `N`.
+    ThinnedRun,
 }
 
 /// Poisson-disk sampler on the unit torus `[0, 1)^D`, `D = 1, 2, 3`.
@@ -67,11 +119,36 @@ pub enum PoissonMethod {
 ///   annulus `r ≤ |x − p| < 2r`; the first candidate at distance `≥ r` from every
 ///   point is accepted and made active, and if all `k` fail the active point is
 ///   retired. The result is dense but in general **not maximal**.
-/// * **Maximal dart throwing**[^3][^4] ([`PoissonMethod::MaximalDartThrowing`]):
-///   uniform candidates, each rejected if closer than `r` to an accepted point
-///   (random sequential adsorption), followed by an exhaustive pass that makes the
-///   set maximal (every location of the torus is covered by a disk; see
-///   [`PoissonDisk::coverage_slack`] for the precise statement).
+/// * **Maximal dart throwing**[^3][^4][^5] ([`PoissonMethod::MaximalDartThrowing`]):
+///   random sequential adsorption (each dart uniform on the torus, rejected if
+///   closer than `r` to an accepted point) run until no uncovered location is
+///   left: a maximal set (see [`PoissonDisk::coverage_slack`] for the precise
+///   statement). As in Ebeida et al. (2011, 2012), darts are thrown only into
+///   *active boxes*: at level `l` the active boxes are cubes of width
+///   `1/(g·2^l)` inside empty grid cells, all of one size, and a dart picks a
+///   box uniformly and then a location uniformly in it. The active boxes contain
+///   every uncovered location, so an accepted dart is uniform over the uncovered
+///   region: the accepted points, in order, are distributed exactly as plain
+///   dart throwing's. A box is removed when its cell receives a point or
+///   when it is known to be covered, and after one dart per active box the
+///   level is refined: every box is split into `2^D` children and the
+///   children known to be covered are dropped. At the last level
+///   ([`PoissonDisk::coverage_slack`]) a box that receives a rejected dart is
+///   removed, which ends the run. *Coverage masks*: every cell keeps one bit
+///   per sub-box of width `1/(4g)` (`4^D ≤ 64` bits), set when one disk
+///   contains that sub-box; each accepted point sets the bits of the cells
+///   around it (per axis the farthest distance to each sub-interval, then a
+///   sum of squares per sub-box, with the margin of the exactness rule). A box
+///   of level `≤ 2` is known to be covered when all the level-2 sub-boxes it
+///   contains are marked (their union contains it), a box of level `> 2` when
+///   the level-2 box containing it is marked or one disk contains it. The
+///   masks are read when a box is drawn (a covered box is removed without a
+///   dart) and at refinement, which at levels `0 → 1 → 2` then needs no
+///   neighbour search. Removed boxes are tombstoned, so the list stays in
+///   cell order and refinement walks the grid in memory order (the points
+///   around a cell are gathered once for all its boxes). None of this changes
+///   which darts are accepted: only boxes without an uncovered location are
+///   removed.
 ///
 /// **Grid.** `g = ⌊√D / r⌋ + 1` cells per axis, so a cell has width `1/g < r/√D`
 /// and diagonal `√D/g < r`: a cell holds at most one point, and a point covers its
@@ -109,6 +186,11 @@ pub enum PoissonMethod {
 /// [^3]: R. L. Cook, *Stochastic Sampling in Computer Graphics*, ACM TOG 5(1), 1986.
 /// [^4]: M. A. Z. Dippé, E. H. Wold, *Antialiasing through Stochastic Sampling*,
 ///   SIGGRAPH 1985.
+/// [^5]: M. S. Ebeida, A. A. Davidson, A. Patney, P. M. Knupp, S. A. Mitchell,
+///   J. D. Owens, *Efficient Maximal Poisson-Disk Sampling*, ACM TOG 30(4)
+///   (SIGGRAPH 2011); M. S. Ebeida, S. A. Mitchell, A. Patney, A. A. Davidson,
+///   J. D. Owens, *A Simple Algorithm for Maximal Poisson-Disk Sampling in High
+///   Dimensions*, Computer Graphics Forum 31(2) (Eurographics 2012).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PoissonDisk<const D: usize> {
     radius: f64,
@@ -118,6 +200,7 @@ pub struct PoissonDisk<const D: usize> {
     max_points: usize,
     candidates: u32,
     method: PoissonMethod,
+    n_mode: PoissonN,
     target: Option<usize>,
 }
 
@@ -201,6 +284,7 @@ impl<const D: usize> PoissonDisk<D> {
             max_points: packing.clamp(1, cells),
             candidates: BRIDSON_DEFAULT_CANDIDATES,
             method: PoissonMethod::Bridson,
+            n_mode: PoissonN::SequentialDartThrowing,
             target: None,
         })
     }
@@ -217,7 +301,8 @@ impl<const D: usize> PoissonDisk<D> {
     /// maximal dart throwing gives about `1.07·N` (measured `1.06–1.08·N` at
     /// `N = 1024`), Bridson about `0.95·N` (measured `0.94–0.98·N`), so Bridson
     /// usually falls short of `N` there. Use
-    /// [`PoissonDisk::generate_n`] to get exactly `n` (or a
+    /// [`PoissonDisk::generate_n`] (sequential dart throwing stopped at `n` by
+    /// default, [`PoissonN`]) to get exactly `n` (or a
     /// [`PatternError::Shortfall`]).
     ///
     /// # Errors
@@ -241,6 +326,20 @@ impl<const D: usize> PoissonDisk<D> {
     pub fn with_method(mut self, method: PoissonMethod) -> Self {
         self.method = method;
         self
+    }
+
+    /// The same sampler producing `N`-point sets ([`PoissonDisk::generate_n`])
+    /// by `mode` (default [`PoissonN::SequentialDartThrowing`]).
+    #[must_use]
+    pub fn with_n_mode(mut self, mode: PoissonN) -> Self {
+        self.n_mode = mode;
+        self
+    }
+
+    /// How [`PoissonDisk::generate_n`] makes exactly `N` points.
+    #[must_use]
+    pub fn n_mode(&self) -> PoissonN {
+        self.n_mode
     }
 
     /// The same sampler with `k = candidates` annulus candidates per active point
@@ -292,11 +391,21 @@ impl<const D: usize> PoissonDisk<D> {
     }
 
     /// Length of the `scratch` buffer ([`u32`] words): `D·g^D` for the grid (each
-    /// cell holds the `f32` bits of its point, if any) plus a work list of
-    /// [`PoissonDisk::max_points`] entries (Bridson's active list).
+    /// cell holds the `f32` bits of its point, if any), `2·g^D` for the coverage
+    /// masks of dart throwing (`4^D ≤ 64` bits per cell), plus a work list of
+    /// `max(max_points, 2·2^D·g^D)` words: Bridson's active list, or the
+    /// active-box list of dart throwing (two words per box, capacity `2^D·g^D`
+    /// boxes so that the first refinement always fits). In all
+    /// `(D + 2 + 2^{D+1})·g^D` words, e.g. `12·g^D` in 2D.
     #[must_use]
     pub fn scratch_len(&self) -> usize {
-        D * self.cells + self.max_points
+        (D + 2) * self.cells + self.max_points.max(2 * self.list_cap())
+    }
+
+    /// Capacity of the active-box list, in boxes: `2^D·g^D`, so that the
+    /// first refinement (at most `g^D` boxes of `2^D` children) always fits.
+    fn list_cap(&self) -> usize {
+        self.cells << D
     }
 
     /// Maximality slack `ε` of [`PoissonMethod::MaximalDartThrowing`]: every
@@ -305,13 +414,17 @@ impl<const D: usize> PoissonDisk<D> {
     /// the maximality pass (so `ε < r/64 + √D·2⁻²³`).
     ///
     /// Proof sketch: a location in an occupied cell is within the cell diagonal
-    /// `√D/g < r` of the cell's point. Each empty cell is split recursively into
-    /// boxes; a box is dropped only when one disk contains it entirely, and
-    /// otherwise a candidate drawn in it (moved by at most one `f32` ulp) is
-    /// accepted if it conflicts with no point, which ends the cell. At the deepest
-    /// level a rejected candidate `c` lies within `r` of a point `q`, so every `x`
-    /// of its box satisfies `d(x, q) < r + √D·(w + 2⁻²⁴)`. Points added later only
-    /// add coverage.
+    /// `√D/g < r` of the cell's point. An active box of an empty cell is removed
+    /// only (a) when its cell receives a point, (b) when one disk contains it
+    /// entirely, or the coverage masks show that disks contain each level-2
+    /// sub-box of it (or the level-2 box that contains it) entirely, or (c) at the deepest level, `w = 1/(g·2⁶)`,
+    /// when a candidate drawn in it (moved by at most one `f32` ulp) is rejected:
+    /// then the candidate `c` lies within `r` of a point `q`, so every `x` of the
+    /// box satisfies `d(x, q) < r + √D·(w + 2⁻²⁴)`. The run ends only when no box
+    /// is left. Points added later only add coverage. (If the active list would
+    /// overflow its capacity at a refinement 16 times in a row, the remaining
+    /// cells are finished one by one by the same depth-first subdivision, with
+    /// the same three removal rules; not observed at the tested radii.)
     ///
     /// The bound needs an `f32` inside every grid cell, which holds while the cell
     /// width `1/g` exceeds the `f32` spacing `2⁻²⁴` near 1, i.e. always except
@@ -326,9 +439,11 @@ impl<const D: usize> PoissonDisk<D> {
     ///
     /// [`PoissonMethod::Bridson`]: starts from one uniform point; every pick of an
     /// active point either adds a point or retires one, so there are at most
-    /// `2·max_points` picks of at most `k` candidates each. [`PoissonMethod::MaximalDartThrowing`]:
-    /// `4·g^D` uniform darts, then one pass over the empty cells in a random
-    /// order, each split into at most `Σ_{l≤6} 2^{lD}` boxes. Both end.
+    /// `2·max_points` picks of at most `k` candidates each.
+    /// [`PoissonMethod::MaximalDartThrowing`]: at levels `0 … 5` one dart per
+    /// active box (times at most 16 rounds per level), at level 6 every dart
+    /// removes a box, and the bounded fallback visits each remaining cell once.
+    /// Both end.
     ///
     /// `scratch` is overwritten; its contents on entry do not matter.
     ///
@@ -341,17 +456,19 @@ impl<const D: usize> PoissonDisk<D> {
         scratch: &mut [u32],
         out: &mut [[f32; D]],
     ) -> Result<usize, PatternError> {
-        self.generate_impl(seed, scratch, out, true)
+        self.generate_impl(seed, scratch, out, true, None)
     }
 
     /// [`PoissonDisk::generate`]; `fast = false` forces the generic neighbour scan
-    /// (for the test that both scans give the same points).
+    /// (for the test that both scans give the same points); `stop = Some(n)` runs
+    /// active-box dart throwing stopped at `n` points, whatever the method.
     fn generate_impl(
         &self,
         seed: Seed,
         scratch: &mut [u32],
         out: &mut [[f32; D]],
         fast: bool,
+        stop: Option<usize>,
     ) -> Result<usize, PatternError> {
         if scratch.len() < self.scratch_len() {
             return Err(PatternError::Scratch {
@@ -365,7 +482,8 @@ impl<const D: usize> PoissonDisk<D> {
                 got: out.len(),
             });
         }
-        let (grid, list) = scratch.split_at_mut(D * self.cells);
+        let (grid, rest) = scratch.split_at_mut(D * self.cells);
+        let (mask, list) = rest.split_at_mut(2 * self.cells);
         grid.fill(EMPTY);
         let r2_hi = self.radius * self.radius * (1.0 + CONFLICT_MARGIN);
         let (near, mut near_len) = near_offsets::<D>(self.g, self.reach, r2_hi);
@@ -382,23 +500,48 @@ impl<const D: usize> PoissonDisk<D> {
             gf: self.g as f64,
             near,
             near_len,
+            mask,
+            use_mask: false,
         };
-        match self.method {
-            PoissonMethod::Bridson => st.bridson(seed.pcg(BRIDSON_PURPOSE), list),
-            PoissonMethod::MaximalDartThrowing => st.darts(seed.pcg(DART_PURPOSE)),
+        // The list capacity is fixed (not the caller's length): the refinement
+        // schedule, hence the points, must not depend on the scratch size.
+        let cap = self.list_cap();
+        let list = &mut list[..(2 * cap).max(self.max_points)];
+        match (self.method, stop) {
+            (_, Some(n)) => st.active_darts(&mut seed.pcg(DART_PURPOSE), &mut list[..2 * cap], n),
+            (PoissonMethod::Bridson, None) => {
+                st.bridson(&mut seed.pcg(BRIDSON_PURPOSE), list, self.candidates);
+            }
+            (PoissonMethod::MaximalDartThrowing, None) => {
+                st.active_darts(
+                    &mut seed.pcg(DART_PURPOSE),
+                    &mut list[..2 * cap],
+                    usize::MAX,
+                );
+            }
         }
         Ok(st.n)
     }
 
-    /// Exactly `n` points in `out[..n]`: a run of [`PoissonDisk::generate`]
-    /// followed by a uniformly random subset of size `n` of its points (a subset of
-    /// a Poisson-disk set is one; the subset is random so that it stays spatially
-    /// homogeneous, which the first `n` of a Bridson run are not).
+    /// Exactly `n` points in `out[..n]`, by [`PoissonDisk::n_mode`]:
+    ///
+    /// * [`PoissonN::SequentialDartThrowing`] (default): dart throwing (random
+    ///   sequential adsorption, with the active boxes of
+    ///   [`PoissonMethod::MaximalDartThrowing`]) stopped at the `n`-th accepted
+    ///   point, in acceptance order: the first `n` points of the
+    ///   [`PoissonMethod::MaximalDartThrowing`] run for this seed and radius,
+    ///   whatever [`PoissonDisk::method`] says. Literature: Widom (1966), Feder
+    ///   (1980) for the process; Lagae & Dutré (2008) for its use as the
+    ///   reference Poisson-disk pattern.
+    /// * [`PoissonN::ThinnedRun`]: a run of [`PoissonDisk::generate`] followed
+    ///   by a uniformly random subset of size `n` of its points (a subset of a
+    ///   Poisson-disk set is one; the subset is random so that it stays
+    ///   spatially homogeneous, which the first `n` of a Bridson run are not).
     ///
     /// # Errors
-    /// [`PatternError::ZeroPoints`] if `n = 0`; [`PatternError::Shortfall`] if the
-    /// run produced fewer than `n` points (`out[..got]` then holds all of them);
-    /// as [`PoissonDisk::generate`].
+    /// [`PatternError::ZeroPoints`] if `n = 0`; [`PatternError::Shortfall`] if
+    /// fewer than `n` points fit (dart throwing saturated, or the run produced
+    /// fewer; `out[..got]` then holds all of them); as [`PoissonDisk::generate`].
     pub fn generate_n(
         &self,
         n: usize,
@@ -409,12 +552,19 @@ impl<const D: usize> PoissonDisk<D> {
         if n == 0 {
             return Err(PatternError::ZeroPoints);
         }
-        let got = self.generate(seed, scratch, out)?;
+        let stop = match self.n_mode {
+            PoissonN::SequentialDartThrowing => Some(n),
+            PoissonN::ThinnedRun => None,
+        };
+        let got = self.generate_impl(seed, scratch, out, true, stop)?;
         if got < n {
             return Err(PatternError::Shortfall {
                 got: got as u64,
                 wanted: n as u64,
             });
+        }
+        if stop.is_some() {
+            return Ok(());
         }
         // Partial Fisher–Yates: out[..n] becomes a uniform random n-subset.
         let mut rng = seed.pcg(SUBSET_PURPOSE);
@@ -459,16 +609,19 @@ impl<const D: usize> PoissonDisk<D> {
 }
 
 /// Exactly `n` points of a Poisson-disk set as a [`super::Pattern`]: for a
-/// seed, the `n` points of [`PoissonDisk::generate_n_vec`] (a run of the disk
-/// sampler followed by a uniformly random subset of `n` of its points), bit for
-/// bit. Fewer than `n` points fitting in a run is an error
+/// seed, the `n` points of [`PoissonDisk::generate_n_vec`], bit for bit. By
+/// default ([`PoissonN::SequentialDartThrowing`]) that is sequential dart
+/// throwing stopped at `n` accepted points, in acceptance order (a prefix is
+/// the process stopped earlier); [`PoissonN::ThinnedRun`] (set on the disk
+/// sampler with [`PoissonDisk::with_n_mode`]) gives a random `n`-subset of a
+/// whole run instead. Fewer than `n` points fitting is an error
 /// ([`PatternError::Shortfall`]) that says so. With the `alloc` feature.
 ///
 /// **Every fill generates the whole set and allocates** (the disk sampler's
-/// grid, its output and the subset): a Poisson-disk set is produced by one
-/// sequential run whose every point depends on the points before it, and the
-/// random subset is drawn from all of them, so point `i` cannot be computed on
-/// its own (no random access) and a fill of any range costs a full run. Use it
+/// grid and its output): a Poisson-disk set is produced by one sequential run
+/// whose every point depends on the points before it, so point `i` cannot be
+/// computed on its own (no random access) and a fill of any range costs a
+/// full run. Use it
 /// where a `Pattern` is needed (estimators, spectra over realisations), not on
 /// a hot path that fills small ranges; fill all `n` points at once.
 #[cfg(feature = "alloc")]
@@ -562,6 +715,32 @@ impl<const D: usize> super::Pattern<D> for PoissonDiskN<D> {
     }
 }
 
+/// Farthest toroidal distance from `q` to the interval `[lo, lo + w]`
+/// (`lo, q ∈ [0, 1)`): `1/2` if the antipode of `q` lies in it, else the
+/// farther end.
+#[inline(always)]
+fn far_axis(q: f64, lo: f64, w: f64) -> f64 {
+    let mut anti = q + 0.5;
+    if anti >= 1.0 {
+        anti -= 1.0;
+    }
+    if (anti >= lo && anti <= lo + w) || (anti + 1.0 >= lo && anti + 1.0 <= lo + w) {
+        0.5
+    } else {
+        torus_dist(q, lo).max(torus_dist(q, frac(lo + w)))
+    }
+}
+
+/// All `4^D` bits of a coverage mask ([`MASK_LEVEL`]).
+#[inline(always)]
+const fn mask_full<const D: usize>() -> u64 {
+    if 2 * D >= 6 {
+        u64::MAX
+    } else {
+        (1u64 << (1 << (2 * D))) - 1
+    }
+}
+
 /// Uniform integer in `[0, n)` (`n ≥ 1`), Lemire's multiply-shift (bias `< n/2³²`).
 #[inline(always)]
 fn below(rng: &mut Pcg32, n: u32) -> u32 {
@@ -636,6 +815,10 @@ struct State<'a, const D: usize> {
     /// Neighbour offsets, nearest first ([`near_offsets`]); `near_len = 0`: odometer.
     near: [[u8; 3]; 125],
     near_len: usize,
+    /// Coverage masks, two words per cell ([`State::mask_of`]); kept up to
+    /// date by [`State::add`] while `use_mask` (active-box dart throwing).
+    mask: &'a mut [u32],
+    use_mask: bool,
 }
 
 impl<const D: usize> State<'_, D> {
@@ -759,6 +942,9 @@ impl<const D: usize> State<'_, D> {
             self.grid[D * ci + j] = x[j].to_bits();
         }
         self.n += 1;
+        if self.use_mask {
+            self.scatter(&x);
+        }
         i
     }
 
@@ -825,21 +1011,20 @@ impl<const D: usize> State<'_, D> {
     }
 
     /// Bridson (2007) on the torus; `active` holds indices of active points.
-    fn bridson(&mut self, mut rng: Pcg32, active: &mut [u32]) {
-        let first = Self::uniform(&mut rng);
+    fn bridson(&mut self, rng: &mut Pcg32, active: &mut [u32], k: u32) {
+        let first = Self::uniform(rng);
         let Some(i0) = self.try_add(first) else {
             return;
         };
         active[0] = i0 as u32;
         let mut len = 1usize;
-        let k = self.p.candidates;
         // The set cannot grow past max_points (e.g. one point when r > √D/2).
         while len > 0 && self.n < self.p.max_points {
-            let a = below(&mut rng, len as u32) as usize;
+            let a = below(rng, len as u32) as usize;
             let p = self.pts[active[a] as usize];
             let mut found = false;
             for _ in 0..k {
-                let y = self.annulus(&mut rng, &p);
+                let y = self.annulus(rng, &p);
                 if let Some(i) = self.try_add(y) {
                     active[len] = i as u32;
                     len += 1;
@@ -854,21 +1039,410 @@ impl<const D: usize> State<'_, D> {
         }
     }
 
-    /// Dart throwing, then the maximality pass.
-    fn darts(&mut self, mut rng: Pcg32) {
-        let cells = self.p.cells;
-        for _ in 0..4 * cells {
-            let x = Self::uniform(&mut rng);
-            self.try_add(x);
+    /// Cell coordinates packed in one word, `32/D` bits per axis (`g ≤ 2²²`,
+    /// `8192`, `406` in 1, 2, 3D fits).
+    #[inline(always)]
+    fn unpack(word: u32) -> [usize; D] {
+        let bits = 32 / D as u32;
+        let mask = if D == 1 { u32::MAX } else { (1u32 << bits) - 1 };
+        core::array::from_fn(|j| ((word >> (bits * j as u32)) & mask) as usize)
+    }
+
+    /// Inverse of [`State::unpack`].
+    #[inline(always)]
+    fn pack(c: &[usize; D]) -> u32 {
+        let bits = 32 / D as u32;
+        let mut w = 0u32;
+        for j in 0..D {
+            w |= (c[j] as u32) << (bits * j as u32);
         }
-        // Empty cells in a random order (a keyed bijection of [0, cells)).
-        let key = rng.next_u32();
+        w
+    }
+
+    /// Lower corner of sub-box `sub` (packed, [`SUB_BITS`] per axis) of width `w`
+    /// in cell `c`.
+    #[inline(always)]
+    fn box_lo(&self, c: &[usize; D], sub: u32, w: f64) -> [f64; D] {
+        core::array::from_fn(|j| {
+            c[j] as f64 / self.gf + f64::from((sub >> (SUB_BITS * j as u32)) & SUB_MASK) * w
+        })
+    }
+
+    /// Active-box dart throwing (Ebeida et al. 2011, 2012), stopped after `stop`
+    /// accepted points or when no active box is left (maximal).
+    ///
+    /// `list` holds the active boxes, two words each (cell index, packed
+    /// sub-box corner), all of width `w = 1/(g·2^level)`. A dart picks a box
+    /// uniformly and a location uniformly in it, so darts are uniform over the
+    /// union of the active boxes, which contains the whole uncovered region: the
+    /// accepted darts are those of plain dart throwing over the torus (a dart
+    /// drawn in a tombstone is rejected, so the live boxes are drawn uniformly
+    /// too). Boxes of occupied cells and boxes the coverage masks show covered
+    /// are removed when drawn; after `DART_NUM/DART_DEN` darts per active box
+    /// the level is refined (children known to be covered are dropped). At the
+    /// last level a box that received a rejected dart is removed (the slack of
+    /// [`PoissonDisk::coverage_slack`]).
+    fn active_darts(&mut self, rng: &mut Pcg32, list: &mut [u32], stop: usize) {
+        let cells = self.p.cells;
+        let cap = list.len() / 2;
+        let stop = stop.min(self.p.max_points);
+        self.mask.fill(0);
+        // The scatter loops hold at most 7 cells per axis, which always holds
+        // (`State::scatter`); the check only keeps the arrays in bounds.
+        self.use_mask = (2 * self.p.reach + 1).min(self.p.g) <= 7;
+        // Level 0: every cell (the torus is empty).
+        let mut c = [0usize; D];
         for i in 0..cells {
-            let ci = permute(i as u32, cells as u32, key) as usize;
-            if self.grid[D * ci] == EMPTY {
-                self.fill_cell(&mut rng, ci);
+            list[2 * i] = Self::pack(&c);
+            list[2 * i + 1] = 0;
+            odometer_step(&mut c, &[self.p.g; D]);
+        }
+        let mut a = cells;
+        let mut level = 0u32;
+        let mut rounds = 0u32;
+        while a > 0 && self.n < stop {
+            let w = 1.0 / (self.gf * f64::from(1u32 << level));
+            let last = level == FILL_DEPTH;
+            let budget = if last {
+                u64::MAX
+            } else {
+                (a as u64 * DART_NUM).div_ceil(DART_DEN)
+            };
+            // Removed boxes become tombstones (`DEAD`) instead of being swapped
+            // out, so the list keeps its cell order (refinement and cleaning then
+            // walk the grid in memory order); a dart drawn in a tombstone is
+            // rejected. `dead` counts them. The list enters a level without
+            // tombstones (refinement and cleaning drop them), and the last level
+            // swap-removes instead.
+            let mut dead = 0usize;
+            let mut thrown = 0u64;
+            while dead < a && thrown < budget && self.n < stop {
+                thrown += 1;
+                let k = below(rng, a as u32) as usize;
+                let cw = list[2 * k];
+                if cw == DEAD {
+                    continue;
+                }
+                let c = Self::unpack(cw);
+                let ci = self.index(&c);
+                let mut drop = true;
+                if self.grid[D * ci] == EMPTY && !self.mask_covers(ci, level, list[2 * k + 1]) {
+                    let lo = self.box_lo(&c, list[2 * k + 1], w);
+                    let x = self.candidate_in(rng, &c, &lo, w);
+                    match x {
+                        Some(x) if !self.conflicts(&x, &c) => {
+                            self.add(x, &c);
+                        }
+                        _ => drop = last,
+                    }
+                }
+                if drop && last {
+                    // Order no longer matters: swap-remove, so every dart of
+                    // the last level removes a box or adds a point.
+                    a -= 1;
+                    list.copy_within(2 * a..2 * a + 2, 2 * k);
+                } else if drop {
+                    list[2 * k] = DEAD;
+                    dead += 1;
+                }
+            }
+            if dead == a || self.n >= stop || last {
+                if dead == a {
+                    a = 0;
+                }
+                continue;
+            }
+            if (a << D) <= cap {
+                a = self.refine(list, a, level, cap);
+                level += 1;
+                rounds = 0;
+            } else {
+                a = self.clean(list, a, level);
+                rounds += 1;
+                if rounds >= MAX_ROUNDS {
+                    // Fallback (bounded): complete the remaining cells one by one.
+                    for k in 0..a {
+                        let ci = self.index(&Self::unpack(list[2 * k]));
+                        if self.n < stop && self.grid[D * ci] == EMPTY {
+                            self.fill_cell(rng, ci);
+                        }
+                    }
+                    return;
+                }
             }
         }
+    }
+
+    /// The points within `reach` cells of cell `c`, as `f64`.
+    #[inline(always)]
+    fn gather(&self, c: &[usize; D], near: &mut [[f64; D]; 125]) -> usize {
+        let mut len = 0;
+        self.any_near(c, |q| {
+            if len < 125 {
+                near[len] = core::array::from_fn(|j| f64::from(q[j]));
+                len += 1;
+            }
+            false
+        });
+        len
+    }
+
+    /// Splits every active box (`list[..2a]`, tombstones skipped) into its
+    /// `2^D` children and keeps those of empty cells that are not known to be
+    /// covered: by the coverage masks ([`State::mask_covers`]) and, below the
+    /// mask level, by one disk ([`State::covers`]). Needs `2^D·a ≤ cap`: the
+    /// boxes are moved to the end of the list and read from there while the
+    /// children are written from the start (the writes never pass the reads).
+    /// Returns the new number of active boxes.
+    fn refine(&mut self, list: &mut [u32], a: usize, level: u32, cap: usize) -> usize {
+        let base = cap - a;
+        list.copy_within(0..2 * a, 2 * base);
+        let wc = 1.0 / (self.gf * f64::from(2u32 << level));
+        let deep = !self.use_mask || level + 1 > MASK_LEVEL;
+        let mut out = 0usize;
+        // The list is in cell order: the points around a cell are gathered
+        // once for all its boxes.
+        let mut all = [[0.0f64; D]; 125];
+        let (mut all_len, mut all_ci) = (0usize, usize::MAX);
+        let mut near = [[0.0f64; D]; 125];
+        for i in 0..a {
+            let cw = list[2 * (base + i)];
+            if cw == DEAD {
+                continue;
+            }
+            let sub = list[2 * (base + i) + 1];
+            let c = Self::unpack(cw);
+            let ci = self.index(&c);
+            if self.grid[D * ci] != EMPTY {
+                continue;
+            }
+            let mut len = 0;
+            if deep {
+                if ci != all_ci {
+                    all_len = self.gather(&c, &mut all);
+                    all_ci = ci;
+                }
+                // Every child has the parent's centre as a corner, so a disk
+                // that contains a child contains the centre: keep only those.
+                let lo_p = self.box_lo(&c, sub, 2.0 * wc);
+                for q in &all[..all_len] {
+                    let mut d2 = 0.0;
+                    for j in 0..D {
+                        let d = torus_dist(q[j], lo_p[j] + wc);
+                        d2 += d * d;
+                    }
+                    if d2 < self.r2_lo {
+                        near[len] = *q;
+                        len += 1;
+                    }
+                }
+            }
+            for child in 0..(1u32 << D) {
+                let mut s = 0u32;
+                for j in 0..D {
+                    let b = (sub >> (SUB_BITS * j as u32)) & SUB_MASK;
+                    s |= (2 * b + ((child >> j) & 1)) << (SUB_BITS * j as u32);
+                }
+                if self.mask_covers(ci, level + 1, s) {
+                    continue;
+                }
+                if deep {
+                    let lo = self.box_lo(&c, s, wc);
+                    if near[..len].iter().any(|q| self.covers(q, &lo, wc)) {
+                        continue;
+                    }
+                }
+                list[2 * out] = cw;
+                list[2 * out + 1] = s;
+                out += 1;
+            }
+        }
+        out
+    }
+
+    /// Removes the tombstones, the boxes of occupied cells and the boxes known
+    /// to be covered (as in [`State::refine`]).
+    fn clean(&mut self, list: &mut [u32], a: usize, level: u32) -> usize {
+        let w = 1.0 / (self.gf * f64::from(1u32 << level));
+        let deep = !self.use_mask || level > MASK_LEVEL;
+        let mut out = 0usize;
+        for i in 0..a {
+            let cw = list[2 * i];
+            if cw == DEAD {
+                continue;
+            }
+            let sub = list[2 * i + 1];
+            let c = Self::unpack(cw);
+            let ci = self.index(&c);
+            if self.grid[D * ci] != EMPTY || self.mask_covers(ci, level, sub) {
+                continue;
+            }
+            if deep && self.box_covered(&c, &self.box_lo(&c, sub, w), w) {
+                continue;
+            }
+            list[2 * out] = cw;
+            list[2 * out + 1] = sub;
+            out += 1;
+        }
+        out
+    }
+
+    /// The coverage mask of cell `ci`: bit `Σ_j i_j·4^j` is set when one disk
+    /// is known to contain the sub-box `i ∈ {0..3}^D` of width `1/(4g)`
+    /// (level [`MASK_LEVEL`]).
+    #[inline(always)]
+    fn mask_of(&self, ci: usize) -> u64 {
+        u64::from(self.mask[2 * ci]) | (u64::from(self.mask[2 * ci + 1]) << 32)
+    }
+
+    /// `true` if the masks show that the box `sub` of level `level` in cell
+    /// `ci` is covered: every level-2 sub-box it contains (levels 0, 1), or the
+    /// level-2 sub-box that contains it (levels ≥ 2), is contained in one disk.
+    /// Always `false` when the masks are off.
+    #[inline(always)]
+    fn mask_covers(&self, ci: usize, level: u32, sub: u32) -> bool {
+        if !self.use_mask {
+            return false;
+        }
+        let m = self.mask_of(ci);
+        if level >= MASK_LEVEL {
+            let mut bit = 0u32;
+            for j in (0..D).rev() {
+                let b = ((sub >> (SUB_BITS * j as u32)) & SUB_MASK) >> (level - MASK_LEVEL);
+                bit = 4 * bit + b;
+            }
+            return (m >> bit) & 1 == 1;
+        }
+        let full = mask_full::<D>();
+        if level == 0 {
+            return m == full;
+        }
+        // level 1: the 2^D level-2 sub-boxes 2b + {0, 1} per axis.
+        let mut region = 0u64;
+        for t in 0..(1u32 << D) {
+            let mut bit = 0u32;
+            for j in (0..D).rev() {
+                let b = (sub >> (SUB_BITS * j as u32)) & SUB_MASK;
+                bit = 4 * bit + 2 * b + ((t >> j) & 1);
+            }
+            region |= 1 << bit;
+        }
+        m & region == region
+    }
+
+    /// Marks in the coverage masks every level-2 sub-box ([`State::mask_of`])
+    /// of the cells within `reach` of `x` that the disk of `x` contains.
+    /// Per axis the farthest toroidal distance from `x` to each of the four
+    /// sub-intervals of each cell is computed once; a sub-box is contained iff
+    /// the sum of the squares is below `r²(1 − 10⁻¹²)` (as [`State::covers`]).
+    /// A cell is skipped when the sum of the per-axis minima reaches `r²` and
+    /// filled when the sum of the maxima stays below it. At most 7 cells per
+    /// axis: for `r < 1`, `r·g ≤ √D + r < 3` so `reach ≤ 3`; for `r ≥ 1`,
+    /// `g ≤ 2`.
+    fn scatter(&mut self, x: &[f32; D]) {
+        let g = self.p.g;
+        let span = (2 * self.p.reach + 1).min(g);
+        let c = self.cell(x);
+        let w4 = 1.0 / (self.gf * 4.0);
+        let r2 = self.r2_lo;
+        // far[j][t][i]: squared farthest distance along axis j to
+        // sub-interval i of the cell at step t; lo/hi: min/max over i.
+        let mut far = [[[0.0f64; 4]; 7]; D];
+        let mut fmin = [[0.0f64; 7]; D];
+        let mut fmax = [[0.0f64; 7]; D];
+        let mut cellj = [[0usize; 7]; D];
+        for j in 0..D {
+            let qj = f64::from(x[j]);
+            let start = if span == g {
+                0
+            } else {
+                c[j] + g - self.p.reach
+            };
+            for t in 0..span {
+                let k = (start + t) % g;
+                cellj[j][t] = k;
+                let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+                for i in 0..4 {
+                    let a = k as f64 / self.gf + i as f64 * w4;
+                    let d = far_axis(qj, a, w4);
+                    let d2 = d * d;
+                    far[j][t][i] = d2;
+                    lo = lo.min(d2);
+                    hi = hi.max(d2);
+                }
+                fmin[j][t] = lo;
+                fmax[j][t] = hi;
+            }
+        }
+        let full = mask_full::<D>();
+        let mut t = [0usize; D];
+        loop {
+            let (mut smin, mut smax) = (0.0, 0.0);
+            for j in 0..D {
+                smin += fmin[j][t[j]];
+                smax += fmax[j][t[j]];
+            }
+            if smin < r2 {
+                let mut idx = 0;
+                for j in (0..D).rev() {
+                    idx = idx * g + cellj[j][t[j]];
+                }
+                let mut m = self.mask_of(idx);
+                if smax < r2 {
+                    m = full;
+                } else if m != full {
+                    // Axes padded to three: a missing axis has one interval
+                    // at distance 0. Nested loops skip a slab as soon as its
+                    // partial sum plus the other axes' minima reaches r².
+                    let mut f = [[0.0f64; 4]; 3];
+                    let mut n = [1usize; 3];
+                    let mut mn = [0.0f64; 3];
+                    for j in 0..D {
+                        f[j] = far[j][t[j]];
+                        n[j] = 4;
+                        mn[j] = fmin[j][t[j]];
+                    }
+                    for i2 in 0..n[2] {
+                        let s2 = f[2][i2];
+                        if s2 + mn[1] + mn[0] >= r2 {
+                            continue;
+                        }
+                        for i1 in 0..n[1] {
+                            let s1 = s2 + f[1][i1];
+                            if s1 + mn[0] >= r2 {
+                                continue;
+                            }
+                            for i0 in 0..n[0] {
+                                if s1 + f[0][i0] < r2 {
+                                    m |= 1 << (i0 + 4 * i1 + 16 * i2);
+                                }
+                            }
+                        }
+                    }
+                }
+                self.mask[2 * idx] = m as u32;
+                self.mask[2 * idx + 1] = (m >> 32) as u32;
+            }
+            if !odometer_step(&mut t, &[span; D]) {
+                return;
+            }
+        }
+    }
+
+    /// `true` if the disk of `q` contains the box `[lo, lo + w]^D` entirely
+    /// (its farthest point is closer than `r`, with margin).
+    #[inline(always)]
+    fn covers(&self, q: &[f64; D], lo: &[f64; D], w: f64) -> bool {
+        let r2 = self.r2_lo;
+        let mut s = 0.0;
+        for j in 0..D {
+            let d = far_axis(q[j], lo[j], w);
+            s += d * d;
+            if s >= r2 {
+                return false;
+            }
+        }
+        true
     }
 
     /// Finds an uncovered location in the empty cell `ci` and adds a point there,
@@ -913,30 +1487,9 @@ impl<const D: usize> State<'_, D> {
 
     /// `true` if one disk contains the box `[lo, lo + w]^D` entirely.
     fn box_covered(&self, c: &[usize; D], lo: &[f64; D], w: f64) -> bool {
-        let r2 = self.r2_lo;
         self.any_near(c, |q| {
-            let mut s = 0.0;
-            for j in 0..D {
-                let qj = f64::from(q[j]);
-                // Farthest toroidal distance from qj to [lo, lo + w]: 1/2 if the
-                // antipode of qj lies in the interval, else the farther end.
-                let mut anti = qj + 0.5;
-                if anti >= 1.0 {
-                    anti -= 1.0;
-                }
-                let d = if (anti >= lo[j] && anti <= lo[j] + w)
-                    || (anti + 1.0 >= lo[j] && anti + 1.0 <= lo[j] + w)
-                {
-                    0.5
-                } else {
-                    torus_dist(qj, lo[j]).max(torus_dist(qj, frac(lo[j] + w)))
-                };
-                s += d * d;
-                if s >= r2 {
-                    return false;
-                }
-            }
-            true
+            let qf: [f64; D] = core::array::from_fn(|j| f64::from(q[j]));
+            self.covers(&qf, lo, w)
         })
     }
 
@@ -978,19 +1531,82 @@ mod tests {
         let p = PoissonDisk::<D>::with_radius(r)
             .unwrap()
             .with_method(method);
-        let mut scratch = [0u32; 1 << 16];
+        let mut scratch = [0u32; 1 << 17];
         let mut a = [[0.0f32; D]; 4096];
         let mut b = [[0.0f32; D]; 4096];
         for seed in 0..3 {
             let na = p
-                .generate_impl(Seed::new(seed), &mut scratch, &mut a, true)
+                .generate_impl(Seed::new(seed), &mut scratch, &mut a, true, None)
                 .unwrap();
             let nb = p
-                .generate_impl(Seed::new(seed), &mut scratch, &mut b, false)
+                .generate_impl(Seed::new(seed), &mut scratch, &mut b, false, None)
                 .unwrap();
             assert_eq!(na, nb);
             assert_eq!(a[..na], b[..nb]);
         }
+    }
+
+    /// After a dart-throwing run the coverage masks (scratch words after the
+    /// grid) mark a level-2 sub-box only if one disk contains it (brute force
+    /// over all points, farthest point of the box, no margin), and mark every
+    /// sub-box that a disk contains with room to spare (`d² < r²(1 − 10⁻⁹)`).
+    fn masks<const D: usize>(r: f64) {
+        let p = PoissonDisk::<D>::with_radius(r)
+            .unwrap()
+            .with_method(PoissonMethod::MaximalDartThrowing);
+        let mut scratch = [0u32; 1 << 17];
+        let mut out = [[0.0f32; D]; 4096];
+        let n = p.generate(Seed::new(5), &mut scratch, &mut out).unwrap();
+        let (g, cells) = (p.g, p.cells);
+        let w4 = 1.0 / (4.0 * g as f64);
+        let r2 = r * r;
+        let mut marked = 0;
+        for ci in 0..cells {
+            let m = u64::from(scratch[D * cells + 2 * ci])
+                | (u64::from(scratch[D * cells + 2 * ci + 1]) << 32);
+            let mut rest = ci;
+            let c: [usize; D] = core::array::from_fn(|_| {
+                let v = rest % g;
+                rest /= g;
+                v
+            });
+            for bit in 0..(1usize << (2 * D)) {
+                let lo: [f64; D] = core::array::from_fn(|j| {
+                    c[j] as f64 / g as f64 + ((bit >> (2 * j)) & 3) as f64 * w4
+                });
+                // Largest squared distance from a point to the box, minimised
+                // over the points.
+                let best = out[..n]
+                    .iter()
+                    .map(|q| {
+                        (0..D)
+                            .map(|j| {
+                                let d = far_axis(f64::from(q[j]), lo[j], w4);
+                                d * d
+                            })
+                            .sum::<f64>()
+                    })
+                    .fold(f64::INFINITY, f64::min);
+                let set = (m >> bit) & 1 == 1;
+                assert!(
+                    !set || best < r2,
+                    "D={D} cell {ci} bit {bit}: {best} ≥ {r2}"
+                );
+                assert!(
+                    set || best >= r2 * (1.0 - 1e-9),
+                    "D={D} cell {ci} bit {bit} missed"
+                );
+                marked += usize::from(set);
+            }
+        }
+        assert!(marked > 0);
+    }
+
+    #[test]
+    fn coverage_masks_mark_exactly_the_contained_sub_boxes() {
+        masks::<1>(0.01);
+        masks::<2>(0.05);
+        masks::<3>(0.15);
     }
 
     #[test]

@@ -3,14 +3,15 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
-use crate::rng::{Pcg32x8, Seed};
+use crate::rng::{CounterX8, Seed};
 use wide::f32x8;
 
 /// `N` independent uniform points in `[0,1)^D` (white noise).
 ///
 /// Coordinate `j` of point `k` is `⌊o_t / 2⁸⌋·2⁻²⁴` where `o_t` is output
-/// `t = k·D + j` of the [`Pcg32`](crate::rng::Pcg32) stream `seed.pcg(RANDOM)`. The
-/// SIMD path reads the same outputs through [`Pcg32x8`] lanes.
+/// `t = k·D + j` of the counter-based stream [`Counter`](crate::rng::Counter)
+/// `seed.counter(RANDOM)`. The SIMD path reads the same outputs through
+/// [`CounterX8`] lanes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Random<const D: usize> {
     n: u64,
@@ -39,19 +40,21 @@ impl<const D: usize> Generate<D> for Random<D> {
     }
 
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let base = seed.pcg(PURPOSE);
+        let key = seed.counter(PURPOSE);
         let d = D as u64;
-        let mut lanes: [Pcg32x8; D] =
-            core::array::from_fn(|j| Pcg32x8::new(&base, first.wrapping_mul(d) + j as u64, d));
+        let mut lanes: [CounterX8; D] =
+            core::array::from_fn(|j| key.lanes(first.wrapping_mul(d) + j as u64, d));
         drive8(sink, || {
             build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next_u32x8()))
         });
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let mut g = seed.pcg(PURPOSE).advanced(first.wrapping_mul(D as u64));
+        let key = seed.counter(PURPOSE);
+        let d = D as u64;
         for i in 0..sink.len() {
-            let p = build(0.0, |_| unit_f32(g.next_u32()));
+            let t = (first + i as u64) * d;
+            let p = build(0.0, |j| unit_f32(key.at(t + j as u64)));
             sink.put(i, p);
         }
     }
