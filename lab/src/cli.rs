@@ -95,10 +95,13 @@ pub enum Command {
     /// Write every sampler in 2D and 3D with its spectrum and an index (the
     /// default command).
     ///
-    /// Samplers random, jittered, n-rooks, sobol, halton, poisson-disk (maximal
-    /// dart throwing, relative radius 0.75) and ccvt in 2D and 3D, and
-    /// multi-jittered and cmj in 2D (they are 2D only), all with N = 1024 points
-    /// except jittered 3D, which uses N = 1000 = 10x10x10 strata. For each one it
+    /// Samplers random, jittered, n-rooks, sobol, halton, poisson-disk
+    /// (sequential dart throwing stopped at N, relative radius 0.75),
+    /// poisson-disk-thinned (N points drawn from a maximal set of the same
+    /// radius, beside it for comparison) and ccvt in 2D and 3D, and
+    /// multi-jittered, cmj, pmj02 and pmj02bn in 2D (they are 2D only), all
+    /// with N = 1024 points except jittered 3D, which uses N = 1000 = 10x10x10
+    /// strata. For each one it
     /// writes `OUT_DIR/<sampler>-<dims>d-<N>.txt` and `.svg` (realisation 0), and
     /// the mean periodogram of --spectrum-realizations realisations as
     /// `OUT_DIR/<sampler>-<dims>d-<N>-spectrum.png`, `-spectrum-radial.csv` and
@@ -421,13 +424,18 @@ impl RunArgs {
 #[derive(Clone, Debug, Args)]
 pub struct PoissonArgs {
     /// Poisson disk only: minimum distance as a fraction of the densest-packing
-    /// distance for N points (Lagae & Dutre 2008), in (0, 1].
+    /// distance for N points (Lagae & Dutre 2008), in (0, 1]. Dart throwing
+    /// jams (no room for another point) near 0.7476 in 1D (Renyi's parking
+    /// constant), 0.777 in 2D and 0.80 in 3D, so N points need a radius below
+    /// those (0.7 or less in 1D).
     #[arg(long, value_name = "R", default_value_t = DEFAULT_RELATIVE_RADIUS)]
     pub relative_radius: f64,
 
-    /// Poisson disk only: use Bridson's algorithm instead of maximal dart
-    /// throwing (Bridson is faster but not maximal, and at --relative-radius
-    /// 0.75 usually fits fewer than N points, which is an error).
+    /// Poisson disk only: N points drawn at random from a Bridson set instead
+    /// of sequential dart throwing stopped at N (poisson-disk) or of a maximal
+    /// set (poisson-disk-thinned). Bridson is fast but not maximal, and at
+    /// --relative-radius 0.75 usually fits fewer than N points, which is an
+    /// error.
     #[arg(long)]
     pub bridson: bool,
 }

@@ -30,7 +30,7 @@ fn writes_every_pattern_and_the_index() {
         Some("sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    assert_eq!(rows.len(), 16, "{csv}");
+    assert_eq!(rows.len(), 20, "{csv}");
     for r in &rows {
         assert_eq!(r.len(), 10, "{r:?}");
         let (d, n): (usize, usize) = (r[1].parse().unwrap(), r[2].parse().unwrap());
@@ -43,7 +43,17 @@ fn writes_every_pattern_and_the_index() {
         // stratified and blue-noise ones are well below 1 at low frequencies.
         let (low, high): (f64, f64) = (r[7].parse().unwrap(), r[8].parse().unwrap());
         assert!((0.5..1.5).contains(&high), "{r:?}");
-        if d == 2 && ["jittered", "poisson-disk", "ccvt", "cmj"].contains(&r[0]) {
+        if d == 2
+            && [
+                "jittered",
+                "poisson-disk",
+                "ccvt",
+                "cmj",
+                "pmj02",
+                "pmj02bn",
+            ]
+            .contains(&r[0])
+        {
             assert!(low < 0.6, "{r:?}");
         }
         let stem = dir.path().join("g").join(r[9]);
@@ -62,6 +72,9 @@ fn writes_every_pattern_and_the_index() {
         ("cmj", "2"),
         ("jittered", "3"),
         ("poisson-disk", "3"),
+        ("poisson-disk-thinned", "2"),
+        ("pmj02", "2"),
+        ("pmj02bn", "2"),
         ("ccvt", "2"),
         ("ccvt", "3"),
     ] {
@@ -71,17 +84,18 @@ fn writes_every_pattern_and_the_index() {
         );
     }
     assert!(!rows.iter().any(|r| r[0] == "cmj" && r[1] == "3"));
+    assert!(!rows.iter().any(|r| r[0] == "pmj02" && r[1] == "3"));
     let out = stdout(&o);
     assert!(out.contains("median"), "{out}");
-    assert_eq!(out.lines().filter(|l| l.contains(".svg")).count(), 16);
-    // 16 × (txt, svg, png, radial csv, radial svg) + index + manifest.
-    assert_eq!(dir.files().len(), 16 * 5 + 2, "{:?}", dir.files());
+    assert_eq!(out.lines().filter(|l| l.contains(".svg")).count(), 20);
+    // 20 × (txt, svg, png, radial csv, radial svg) + index + manifest.
+    assert_eq!(dir.files().len(), 20 * 5 + 2, "{:?}", dir.files());
     let manifest: serde_json::Value =
         serde_json::from_slice(&fs::read(dir.path().join("g/manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["experiment"], "gallery");
     assert_eq!(manifest["config"]["spectrum_realizations"], 2);
     assert_eq!(manifest["config"]["shift"], "none");
-    assert_eq!(manifest["cell_seconds"].as_array().unwrap().len(), 16);
+    assert_eq!(manifest["cell_seconds"].as_array().unwrap().len(), 20);
     no_tmp_files(&dir);
 
     // A rerun resumes: nothing is recomputed (the timings are the stored
@@ -100,7 +114,7 @@ fn writes_every_pattern_and_the_index() {
     );
     ok(&o, "rerun");
     assert!(
-        stdout(&o).contains("16 of 16 cell(s) already done, computing 0"),
+        stdout(&o).contains("20 of 20 cell(s) already done, computing 0"),
         "{}",
         stdout(&o)
     );
@@ -150,7 +164,7 @@ fn without_spectra() {
     for l in csv.lines().skip(1) {
         assert!(l.ends_with(",,,"), "{l}");
     }
-    assert_eq!(dir.files().len(), 16 * 2 + 2);
+    assert_eq!(dir.files().len(), 20 * 2 + 2);
     let svg = fs::read_to_string(dir.path().join("g/sobol-2d-1024.svg")).unwrap();
     assert!(svg.contains("shift on"));
 }

@@ -647,7 +647,7 @@ fn run_row<const D: usize, const K: usize>(
         .map_err(|e| {
             let hint = match e {
                 EstimateError::Pattern(PatternError::Shortfall { .. }) => {
-                    "; lower --relative-radius or use maximal dart throwing (drop --bridson)"
+                    "; lower --relative-radius (or drop --bridson)"
                 }
                 _ => "",
             };

@@ -363,7 +363,7 @@ mod tests {
     #[test]
     fn covers_every_sampler() {
         let e = entries();
-        assert_eq!(e.len(), 16);
+        assert_eq!(e.len(), 20);
         for s in Sampler::ALL {
             assert!(e.iter().any(|t| t.sampler == s && t.dims == 2));
         }

@@ -1210,7 +1210,7 @@ fn reproduce(cfg: &Config) -> String {
             if let Some((a, b)) = p.grid {
                 let _ = write!(c, " --grid {a}x{b}");
             }
-            if p.sampler == sampler::Sampler::PoissonDisk {
+            if p.sampler.is_poisson() {
                 let _ = write!(c, " --relative-radius {}", p.relative_radius);
                 if p.bridson {
                     c.push_str(" --bridson");

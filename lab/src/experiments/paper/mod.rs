@@ -263,7 +263,7 @@ impl Paper {
 /// plan's Poisson-disk radius ([`plan::poisson_radius`]).
 fn pattern_spec(sampler: crate::sampler::Sampler, dims: usize, n: usize) -> PatternSpec {
     let mut s = PatternSpec::simple(sampler, dims, n);
-    if sampler == crate::sampler::Sampler::PoissonDisk {
+    if sampler.is_poisson() {
         s.relative_radius = plan::poisson_radius(dims);
     }
     s

@@ -298,7 +298,7 @@ impl Budget {
 
     fn realisations(&self, s: Sampler, primitive: Primitive, dims: usize) -> u64 {
         let r = match s {
-            Sampler::PoissonDisk => self.poisson,
+            Sampler::PoissonDisk | Sampler::PoissonDiskThinned => self.poisson,
             Sampler::Ccvt => self.ccvt,
             _ => self.cheap,
         };
@@ -309,19 +309,21 @@ impl Budget {
         }
     }
 
-    /// The N of `s` in `d′` dimensions: powers of two for Owen-Sobol′ (its
-    /// net property needs `N = 2^m`), `m^d′` for the others (jittered needs
+    /// The N of `s` in `d′` dimensions: powers of two for Owen-Sobol′ and PMJ02 (their
+    /// net properties need `N = 2^m`), `m^d′` for the others (jittered needs
     /// whole strata; the rest use the same N so that rows compare), capped at
     /// the mode's largest N (and CCVT's).
     fn ns(&self, s: Sampler, pattern_dims: usize) -> Vec<usize> {
         let max = self.max_n[pattern_dims - 1];
         let max = match (s, pattern_dims) {
             (Sampler::Ccvt, 2 | 3) => max.min(self.ccvt_max[pattern_dims - 2]),
-            (Sampler::PoissonDisk, _) => max.min(self.poisson_max[pattern_dims - 1]),
+            (Sampler::PoissonDisk | Sampler::PoissonDiskThinned, _) => {
+                max.min(self.poisson_max[pattern_dims - 1])
+            }
             _ => max,
         };
         let min = self.min_n[pattern_dims - 1];
-        let v: Vec<usize> = if s == Sampler::Sobol || pattern_dims == 1 {
+        let v: Vec<usize> = if matches!(s, Sampler::Sobol | Sampler::Pmj02) || pattern_dims == 1 {
             (0..63)
                 .map(|k| 1usize << k)
                 .filter(|&n| n >= min && n <= max)
@@ -453,7 +455,7 @@ impl Builder {
             integrand,
             primitive,
             sampler,
-            relative_radius: if sampler == Sampler::PoissonDisk {
+            relative_radius: if sampler.is_poisson() {
                 poisson_radius(pattern_dims)
             } else {
                 DEFAULT_RELATIVE_RADIUS
@@ -502,6 +504,7 @@ fn rate_samplers(pattern_dims: usize) -> Vec<Sampler> {
         Sampler::Ccvt,
         Sampler::MultiJittered,
         Sampler::Sobol,
+        Sampler::Pmj02,
     ]
     .into_iter()
     .filter(|s| s.dims().contains(&pattern_dims))

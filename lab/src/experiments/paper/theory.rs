@@ -34,10 +34,13 @@ use crate::sampler::Sampler;
 #[must_use]
 pub fn beta(sampler: Sampler, pattern_dims: usize) -> f64 {
     match sampler {
-        Sampler::Random | Sampler::PoissonDisk => 0.0,
+        Sampler::Random | Sampler::PoissonDisk | Sampler::PoissonDiskThinned => 0.0,
         Sampler::Jittered | Sampler::MultiJittered | Sampler::Cmj => 2.0,
         Sampler::Ccvt => 3.0,
-        Sampler::Sobol => 2.0 * pattern_dims as f64,
+        // Owen-scrambled (0, m, d′)-nets (Owen 1997); PMJ02 prefixes of 2^m
+        // points are (0, m, 2)-nets in base 2 with random nested strata, and
+        // Christensen et al. (2018) measure Owen-Sobol′'s rates for them.
+        Sampler::Sobol | Sampler::Pmj02 | Sampler::Pmj02Bn => 2.0 * pattern_dims as f64,
         // Not used by the paper's tables: Latin hypercube and Halton have no
         // isotropic low-frequency law of this form.
         Sampler::NRooks | Sampler::Halton => f64::NAN,
@@ -99,7 +102,8 @@ impl Theory {
         let d = pattern_dims as f64;
         let m = beta.min(alpha - d);
         let mut log_power = u32::from(beta == alpha - d);
-        if sampler == Sampler::Sobol && beta < alpha - d {
+        if matches!(sampler, Sampler::Sobol | Sampler::Pmj02 | Sampler::Pmj02Bn) && beta < alpha - d
+        {
             log_power = u32::try_from(pattern_dims.saturating_sub(1)).unwrap_or(0);
         }
         Theory {
