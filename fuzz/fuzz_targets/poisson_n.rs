@@ -1,13 +1,17 @@
 //! Fuzzes `PoissonDisk::generate_n` (and `generate`, `for_n`, `with_radius`) with
 //! arbitrary parameters, counts and buffer sizes.
 //!
-//! Checks: never a panic; `n = 0` and short buffers are errors; when the run
-//! yields at least `n` points, `out[..n]` is a subset (as a multiset, bit for bit)
-//! of the points `generate` gives for the same seed, in `[0, 1)`, pairwise at
-//! toroidal distance `≥ r` (the stored `f32` points, `d² ≥ r²(1 − 1e−9)`, as
-//! the `patterns` target checks for `generate`); otherwise the error is
-//! `Shortfall { got, wanted: n }` with `got` the count `generate` gives and
-//! `out[..got]` those points. Sizes are kept to at most 128 points.
+//! Checks, for both ways of getting exactly `n` points ([`PoissonN`]): never a
+//! panic; `n = 0` and short buffers are errors. The reference run is the
+//! maximal dart-throwing run for the same seed (sequential dart throwing
+//! stopped at `n`, the default: `out[..n]` must be its first `n` points, in
+//! order) or the run of the sampler's own method (thinned: `out[..n]` must be
+//! a subset of it, as a multiset, bit for bit). The points are in `[0, 1)`,
+//! pairwise at toroidal distance `≥ r` (the stored `f32` points,
+//! `d² ≥ r²(1 − 1e−9)`, as the `patterns` target checks for `generate`);
+//! when the reference run has fewer than `n` points the error is
+//! `Shortfall { got, wanted: n }` with `got` its count and `out[..got]` its
+//! points. Sizes are kept to at most 128 points.
 //!
 //! Run: `cargo fuzz run --sanitizer none poisson_n`.
 
@@ -15,7 +19,7 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use linesample::pattern::{PoissonDisk, PoissonMethod};
+use linesample::pattern::{PoissonDisk, PoissonMethod, PoissonN};
 use linesample::{PatternError, Seed};
 
 #[derive(Arbitrary, Debug)]
@@ -24,6 +28,7 @@ struct Input {
     target: Option<(u16, f64)>,
     radius: f64,
     dart: bool,
+    thinned: bool,
     n: u16,
     extra: u8,
     seed: u64,
@@ -38,6 +43,9 @@ fn run<const D: usize>(inp: &Input) {
     if inp.dart {
         disk = disk.with_method(PoissonMethod::MaximalDartThrowing);
     }
+    if inp.thinned {
+        disk = disk.with_n_mode(PoissonN::ThinnedRun);
+    }
     if disk.max_points() > 128 || disk.scratch_len() > 1 << 12 {
         return;
     }
@@ -49,7 +57,12 @@ fn run<const D: usize>(inp: &Input) {
     let mut out = vec![[0.0f32; D]; cap];
     let res = disk.generate_n(n, seed, &mut scratch, &mut out);
     let mut all = vec![[0.0f32; D]; disk.max_points()];
-    let got = disk.generate(seed, &mut scratch, &mut all).unwrap();
+    let reference = if inp.thinned {
+        disk
+    } else {
+        disk.with_method(PoissonMethod::MaximalDartThrowing)
+    };
+    let got = reference.generate(seed, &mut scratch, &mut all).unwrap();
     let all = &all[..got];
     let key = |p: &[f32; D]| p.map(f32::to_bits);
     let mut pool: Vec<[u32; D]> = all.iter().map(key).collect();
@@ -67,6 +80,12 @@ fn run<const D: usize>(inp: &Input) {
         Err(e) => panic!("generate_n({n}) with buffers of {cap}: {e}"),
         Ok(()) => {
             assert!(n >= 1 && n <= got);
+            if !inp.thinned {
+                // The first n points of the maximal run, in acceptance order.
+                for (a, b) in out[..n].iter().zip(all) {
+                    assert_eq!(key(a), key(b));
+                }
+            }
             let mut sub: Vec<[u32; D]> = out[..n].iter().map(key).collect();
             sub.sort_unstable();
             // Multiset inclusion in the full run.
