@@ -813,8 +813,8 @@ fn mean_var(x: &[f64]) -> (f64, f64) {
 /// by more than 4 standard errors of the difference, `SE = √(s_a²/64 + s_b²/64)`.
 /// The realisations are independent, so the difference of means is close to
 /// normal; the literature gap (thinned 0.12–0.16, sequential 0.06–0.11) is
-/// about 0.05, measured at 0.052 here (0.075 vs 0.127) with SE ≈ 0.0011
-/// (≈ 47 SE), so the false-alarm probability, `Φ(4 − 47)`, is below 10⁻⁴⁰. If the default were
+/// about 0.05, measured at 0.052 here (0.0757 vs 0.1277) with SE ≈ 0.0012
+/// (≈ 43 SE), so the false-alarm probability, `Φ(4 − 43)`, is below 10⁻⁴⁰. If the default were
 /// thinned too the expected difference would be 0 and the test would pass with
 /// probability `1 − Φ(4) ≈ 3·10⁻⁵`.
 #[test]
