@@ -529,7 +529,8 @@ pub struct PatternsArgs {
     #[command(flatten)]
     pub pattern: PatternArgs,
 
-    /// Dimension of the points, 1 to 3 (multi-jittered and cmj: 2 only).
+    /// Dimension of the points, 1 to 3 (multi-jittered, cmj, pmj02 and pmj02bn: 2 only;
+    /// ccvt: 2 or 3).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u8).range(1..=3))]
     pub dims: u8,
 
@@ -589,7 +590,8 @@ pub struct SpectrumArgs {
     #[command(flatten)]
     pub pattern: PatternArgs,
 
-    /// Dimension D of the points, 1 to 3 (multi-jittered and cmj: 2 only;
+    /// Dimension D of the points, 1 to 3 (multi-jittered, cmj, pmj02 and
+    /// pmj02bn: 2 only; ccvt: 2 or 3;
     /// lines: 2 or 3) [default: 2]. With --input, D is the files' column count.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=3))]
     pub dims: Option<u8>,
