@@ -25,8 +25,8 @@
 //! | [`CorrelatedMultiJittered`] (Kensler 2013) | 2 | `m·n ≤ 2²⁴` |
 //! | [`Sobol`] (Owen-scrambled, Burley 2020) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
 //! | [`Halton`] (Owen-scrambled) | 1–3 (sequence: 16 dims) | `≤ 2³²` |
-//! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing), toroidal | 1–3 | from the radius |
-//! | `PoissonDiskN`: exactly `N` points of a [`PoissonDisk`] set (`alloc` feature; each fill generates the whole set) | 1–3 | `≤` [`PoissonDisk::max_points`] |
+//! | [`PoissonDisk`] (Bridson 2007; maximal dart throwing with active boxes, Ebeida et al. 2011), toroidal | 1–3 | from the radius |
+//! | `PoissonDiskN`: exactly `N` points, by default dart throwing stopped at `N` ([`PoissonN`]; `alloc` feature; each fill generates the whole set) | 1–3 | `≤` [`PoissonDisk::max_points`] |
 //! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
 //! | [`Pmj02`] (progressive multi-jittered (0,2), Christensen et al. 2018; Pharr 2019): every power-of-two prefix stratified in all elementary intervals (`Pattern` with the `alloc` feature; each fill generates the prefix) | 2 | `≤ 2²⁴` |
 //! | [`Pmj02::blue_noise`] (PMJ02BN: best candidate, Christensen et al. 2018) | 2 | `≤ 2²⁴` |
