@@ -351,6 +351,58 @@ impl CounterX8 {
         self.wm = u32x8::new(w.map(|p| p.1));
     }
 
+    /// Calls `f(b, out)` for `b = 0 … count − 1`, where `out` holds the next
+    /// `K` results of [`CounterX8::next_u32x8`] in order; the lanes end where
+    /// `K·count` calls would leave them.
+    ///
+    /// This is the fast way to read a long stream: between carries out of the
+    /// low counter words (one per `2³²` outputs) the lanes live in registers
+    /// and each vector costs the hash alone, with no carry test.
+    #[inline(always)]
+    pub fn chunks<const K: usize>(&mut self, count: usize, mut f: impl FnMut(usize, [u32x8; K])) {
+        let mut b = 0;
+        while b < count {
+            let run = (self.carry_free() / K).min(count - b);
+            let (mut lo, wa, wm, step) = (self.lo, self.wa, self.wm, self.step_lo);
+            let step_k = step * u32x8::splat(K as u32);
+            for _ in 0..run {
+                let mut x = lo;
+                f(
+                    b,
+                    core::array::from_fn(|_| {
+                        let out = mix32x8((x ^ wa) * wm);
+                        x += step;
+                        out
+                    }),
+                );
+                lo += step_k;
+                b += 1;
+            }
+            self.lo = lo;
+            if b < count {
+                f(b, core::array::from_fn(|_| self.next_u32x8()));
+                b += 1;
+            }
+        }
+    }
+
+    /// How many steps every lane can take before a low word wraps.
+    fn carry_free(&self) -> usize {
+        if self.step_hi != 0 {
+            return 0;
+        }
+        let step = self.step_lo.to_array()[0];
+        if step == 0 {
+            return usize::MAX;
+        }
+        let room = (u32x8::MAX - self.lo)
+            .to_array()
+            .into_iter()
+            .min()
+            .unwrap_or(0);
+        (room / step) as usize
+    }
+
     /// Eight outputs, one per lane, then every lane moves on by `8·stride`.
     #[inline(always)]
     pub fn next_u32x8(&mut self) -> u32x8 {

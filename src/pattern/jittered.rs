@@ -1,9 +1,11 @@
 //! Jittered (stratified) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, build, check_dims, drive8, lanes_of, odometer_step, Strata, MAX_STRATA};
+use super::{
+    advance8, build, check_dims, drive8, lanes_of, odometer_step, Strata, StrataX8, MAX_STRATA,
+};
 use crate::error::PatternError;
-use crate::rng::{CounterX8, Seed};
+use crate::rng::{Counter, CounterX8, Seed};
 use wide::{f32x8, u32x8};
 
 /// Jittered sampling: the unit cube is cut into `m₁×…×m_D` equal cells and each
@@ -93,6 +95,96 @@ impl<const D: usize> Jittered<D> {
         self.strata.map(|m| m as usize)
     }
 
+    /// The flat (point-major) fast path: blocks of 8 points, which share every
+    /// cell digit but the first when `m₁` and `first` are multiples of 8, are
+    /// `D` vectors of consecutive stream outputs; vector `v`, lane `l` holds
+    /// axis `(8v + l) mod D` of point `⌊(8v + l)/D⌋` of the block.
+    #[inline(always)]
+    fn gen_flat(&self, key: Counter, first: u64, flat: &mut [f32]) {
+        let axis = |v: usize, l: usize| (8 * v + l) % D;
+        let axes: [Strata; D] = self.strata.map(Strata::new);
+        let sx: [StrataX8; D] =
+            core::array::from_fn(|v| StrataX8::new(core::array::from_fn(|l| axes[axis(v, l)])));
+        let step: [f32x8; D] = core::array::from_fn(|v| {
+            f32x8::new(core::array::from_fn(|l| {
+                if axis(v, l) == 0 {
+                    8.0
+                } else {
+                    0.0
+                }
+            }))
+        });
+        let m0 = self.strata[0];
+        let mut cell = self.cell_of(first);
+        let mut cf = Self::cell_lanes(&cell);
+        let mut row_left = (m0 - cell[0]) / 8;
+        let blocks = flat.len() / (8 * D);
+        let mut lanes = key.lanes(first * D as u64, 1);
+        lanes.chunks::<D>(blocks, |b, bits| {
+            let out = &mut flat[8 * D * b..8 * D * (b + 1)];
+            let mut slow = wide::i32x8::ZERO;
+            for v in 0..D {
+                let (x, sv) = sx[v].fast_x8(cf[v], bits[v]);
+                out[8 * v..8 * v + 8].copy_from_slice(&x.to_array());
+                slow |= sv;
+            }
+            if slow.any() {
+                Self::fix_block(&sx, &cf, out);
+            }
+            row_left -= 1;
+            if row_left == 0 {
+                self.next_row(&mut cell, &mut cf);
+                row_left = m0 / 8;
+            } else {
+                for v in 0..D {
+                    cf[v] += step[v];
+                }
+            }
+        });
+        for k in 8 * blocks..flat.len() / D {
+            let p = first + k as u64;
+            let c = self.cell_of(p);
+            for j in 0..D {
+                flat[D * k + j] = axes[j].point(c[j], key.at(p * D as u64 + j as u64));
+            }
+        }
+    }
+
+    /// The exact fix of [`Strata::point`] for the vectors of one flat block
+    /// (lanes already inside their cell are left as they are).
+    #[cold]
+    #[inline(never)]
+    fn fix_block(sx: &[StrataX8; D], cf: &[f32x8; D], out: &mut [f32]) {
+        for (v, o) in out.chunks_exact_mut(8).enumerate() {
+            let x = f32x8::new(o.try_into().unwrap_or([0.0; 8]));
+            o.copy_from_slice(&sx[v].fix_x8(x, cf[v]).to_array());
+        }
+    }
+
+    /// The cells of a flat block's lanes (see [`Jittered::gen_flat`]) whose
+    /// first point is in `cell`, exact in `f32` (every count is ≤ 2²⁴).
+    fn cell_lanes(cell: &[u32; D]) -> [f32x8; D] {
+        core::array::from_fn(|v| {
+            f32x8::new(core::array::from_fn(|l| {
+                let (a, q) = ((8 * v + l) % D, ((8 * v + l) / D) as u32);
+                (cell[a] + if a == 0 { q } else { 0 }) as f32
+            }))
+        })
+    }
+
+    /// Moves a flat block from the end of a row to the start of the next one.
+    /// Rare (once per `m₁/8` blocks) and out of line, so that the per-block
+    /// code stays small enough to inline.
+    #[cold]
+    #[inline(never)]
+    fn next_row(&self, cell: &mut [u32; D], cf: &mut [f32x8; D]) {
+        cell[0] = self.strata[0] - 8;
+        for _ in 0..8 {
+            odometer_step(cell, &self.strata);
+        }
+        *cf = Self::cell_lanes(cell);
+    }
+
     fn cell_of(&self, mut k: u64) -> [u32; D] {
         core::array::from_fn(|j| {
             let m = u64::from(self.strata[j]);
@@ -111,6 +203,12 @@ impl<const D: usize> Generate<D> for Jittered<D> {
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let d = D as u64;
+        if let Some(flat) = sink.flat() {
+            if self.strata[0].is_multiple_of(8) && first.is_multiple_of(8) {
+                self.gen_flat(key, first, flat);
+                return;
+            }
+        }
         let mut lanes: [CounterX8; D] =
             core::array::from_fn(|j| key.lanes(first * d + j as u64, d));
         let axes: [Strata; D] = self.strata.map(Strata::new);

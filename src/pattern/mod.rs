@@ -208,6 +208,13 @@ pub(crate) mod sealed {
         fn put(&mut self, i: usize, p: [f32; D]);
         /// Points `i .. i + 8`, coordinate `j` of point `i + l` in lane `l` of `v[j]`.
         fn put8(&mut self, i: usize, v: [f32x8; D]);
+        /// The output as one flat slice of `len()·D` coordinates, point-major
+        /// (coordinate `j` of point `i` at `i·D + j`), if the sink has that layout.
+        /// Generators whose values are a function of the flat index write it
+        /// with contiguous vector stores and no transposition.
+        fn flat(&mut self) -> Option<&mut [f32]> {
+            None
+        }
     }
 
     /// The generator behind a pattern: `count` points starting at `first` into `sink`.
@@ -238,6 +245,10 @@ impl<const D: usize> Sink<D> for Aos<'_, D> {
         for (l, p) in dst.iter_mut().enumerate() {
             *p = build(0.0, |j| a[j][l]);
         }
+    }
+    #[inline(always)]
+    fn flat(&mut self) -> Option<&mut [f32]> {
+        Some(self.0.as_flattened_mut())
     }
 }
 
@@ -567,33 +578,68 @@ impl Strata {
     /// Lane-wise [`Strata::point`].
     #[inline(always)]
     pub(crate) fn point_x8(&self, cell: wide::u32x8, bits: wide::u32x8) -> f32x8 {
-        let u: wide::i32x8 = bytemuck::cast(bits >> 8);
         let c = f32x8::from_i32x8(bytemuck::cast(cell));
-        let uf = f32x8::from_i32x8(u) * f32x8::splat(1.0 / 16_777_216.0);
-        let v = (c + uf) * f32x8::splat(self.inv32);
-        let slow = u.simd_lt(wide::i32x8::splat(self.lo)) | u.simd_gt(wide::i32x8::splat(self.hi));
+        StrataX8::new([*self; 8]).point_x8(c, bits)
+    }
+}
+
+/// [`Strata`] with its own axis in every lane: lane `l` of
+/// [`StrataX8::point_x8`] is [`Strata::point`] of `lanes[l]`, bit for bit. A
+/// point-major flat buffer (`x₀ y₀ x₁ y₁ …`) mixes axes within one vector.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct StrataX8 {
+    m: f32x8,
+    m_hi: f32x8,
+    m_lo: f32x8,
+    inv32: f32x8,
+    lo: wide::i32x8,
+    hi: wide::i32x8,
+}
+
+impl StrataX8 {
+    #[inline(always)]
+    pub(crate) fn new(lanes: [Strata; 8]) -> Self {
+        Self {
+            m: f32x8::new(lanes.map(|s| s.m)),
+            m_hi: f32x8::new(lanes.map(|s| s.m_hi)),
+            m_lo: f32x8::new(lanes.map(|s| s.m_lo)),
+            inv32: f32x8::new(lanes.map(|s| s.inv32)),
+            lo: wide::i32x8::new(lanes.map(|s| s.lo)),
+            hi: wide::i32x8::new(lanes.map(|s| s.hi)),
+        }
+    }
+
+    /// Lane-wise [`Strata::point`], the cell given as an (exact) `f32`.
+    #[inline(always)]
+    pub(crate) fn point_x8(&self, c: f32x8, bits: wide::u32x8) -> f32x8 {
+        let (v, slow) = self.fast_x8(c, bits);
         if !slow.any() {
             return v;
         }
         self.fix_x8(v, c)
     }
 
+    /// The fast value of [`StrataX8::point_x8`] and the mask of lanes that
+    /// need [`StrataX8::fix_x8`] (for callers that test several vectors at once).
+    #[inline(always)]
+    pub(crate) fn fast_x8(&self, c: f32x8, bits: wide::u32x8) -> (f32x8, wide::i32x8) {
+        let u: wide::i32x8 = bytemuck::cast(bits >> 8);
+        let uf = f32x8::from_i32x8(u) * f32x8::splat(1.0 / 16_777_216.0);
+        let v = (c + uf) * self.inv32;
+        (v, u.simd_lt(self.lo) | u.simd_gt(self.hi))
+    }
+
     /// The exact test and the one-ulp moves of [`Strata::point`], in lanes (a
     /// lane that is inside stays put, so the fast lanes are unchanged).
     #[inline(never)]
-    fn fix_x8(&self, mut v: f32x8, c: f32x8) -> f32x8 {
-        let (m, m_hi, m_lo) = (
-            f32x8::splat(self.m),
-            f32x8::splat(self.m_hi),
-            f32x8::splat(self.m_lo),
-        );
+    pub(crate) fn fix_x8(&self, mut v: f32x8, c: f32x8) -> f32x8 {
         let one = wide::i32x8::splat(1);
         loop {
-            let p = v * m;
+            let p = v * self.m;
             let t = v * f32x8::splat(SPLIT_F32);
             let vh = t - (t - v);
             let vl = v - vh;
-            let e = ((vh * m_hi - p) + vh * m_lo + vl * m_hi) + vl * m_lo;
+            let e = ((vh * self.m_hi - p) + vh * self.m_lo + vl * self.m_hi) + vl * self.m_lo;
             let below: wide::i32x8 = bytemuck::cast(((p - c) + e).simd_lt(f32x8::ZERO));
             let above: wide::i32x8 =
                 bytemuck::cast(((p - (c + f32x8::ONE)) + e).simd_ge(f32x8::ZERO));

@@ -42,6 +42,22 @@ impl<const D: usize> Generate<D> for Random<D> {
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let d = D as u64;
+        if let Some(flat) = sink.flat() {
+            // Flat index i is stream output first·D + i: eight consecutive
+            // outputs per vector, stored contiguously.
+            // The vector stores are aligned to 32 bytes (a store that splits a
+            // cache line costs two); the few values before and after are scalar.
+            let t0 = first * d;
+            let (head, body, _) = bytemuck::pod_align_to_mut::<f32, f32x8>(flat);
+            let (h, nb) = (head.len(), body.len());
+            let mut lanes = key.lanes(t0 + h as u64, 1);
+            lanes.chunks(nb, |b, [bits]| body[b] = unit_f32x8(bits));
+            let tail = h + 8 * nb;
+            for i in (0..h).chain(tail..flat.len()) {
+                flat[i] = unit_f32(key.at(t0 + i as u64));
+            }
+            return;
+        }
         let mut lanes: [CounterX8; D] =
             core::array::from_fn(|j| key.lanes(first.wrapping_mul(d) + j as u64, d));
         drive8(sink, || {
