@@ -346,6 +346,13 @@ impl CounterX8 {
     #[cold]
     fn refresh(&mut self) {
         let hi = self.hi.to_array();
+        if hi.iter().all(|&h| h == hi[0]) {
+            // The usual case (every lane in one 2³²-block): two hashes, not 16.
+            let (a, m) = self.key.words(hi[0]);
+            self.wa = u32x8::splat(a);
+            self.wm = u32x8::splat(m);
+            return;
+        }
         let w = hi.map(|h| self.key.words(h));
         self.wa = u32x8::new(w.map(|p| p.0));
         self.wm = u32x8::new(w.map(|p| p.1));

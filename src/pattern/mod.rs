@@ -502,8 +502,12 @@ pub(crate) fn unit_f64(bits: u64) -> f64 {
 /// The value is `v = (c + U·2⁻²⁴)·fl(1/m)` in `f32`, with `U = bits ≫ 8`. Its
 /// three roundings move `v` by at most `3.01·2⁻²⁴·v`, i.e. about three ulps,
 /// from `(c + u)/m`, so when `4m ≤ U ≤ 2²⁴ − 4m` the point is provably inside
-/// its stratum and `v` is returned. Otherwise (probability `8m/2²⁴`, or always
-/// when `m ≥ 2²¹`) membership is tested exactly and `v` moved by one ulp at a
+/// its stratum and `v` is returned. When `m = 2ᵏ < 2²²` the window is wider,
+/// `U ≤ 2²⁴ − 2m`: `1/m` and the product are exact, so the only rounding is
+/// `s = fl(c + U·2⁻²⁴) ∈ [c, c + 1]`, and `s` reaches `c + 1` only if
+/// `1 − U·2⁻²⁴ ≤ ½ulp(c + 1) ≤ 2⁻²⁴·m`. Otherwise (probability `8m/2²⁴`, `2m/2²⁴`
+/// for powers of two, or always when `m ≥ 2²¹` is not one)
+/// membership is tested exactly and `v` moved by one ulp at a
 /// time (at most four) until it is inside: `v·m = p + e` exactly by Dekker's
 /// product with Veltkamp splits (Dekker 1971; no fused multiply-add, so every
 /// build gives the same bits), and `(p − c) + e` has the sign of `v·m − c`
@@ -528,7 +532,11 @@ impl Strata {
     /// `m` strata, `1 ≤ m ≤ 2²⁴`.
     pub(crate) fn new(m: u32) -> Self {
         let d = 4 * u64::from(m);
-        let (lo, hi) = if d >= 1 << 23 {
+        let (lo, hi) = if m.is_power_of_two() && m < 1 << 22 {
+            // 1/m is exact and so is the product: only c + u can round, and only
+            // up to c + 1, which needs 2²⁴ − U ≤ m.
+            (0, (1 << 24) - 2 * m as i32)
+        } else if d >= 1 << 23 {
             (i32::MAX, i32::MIN)
         } else {
             (d as i32, (1 << 24) - d as i32)
@@ -810,18 +818,25 @@ mod tests {
             99_991,
             1 << 20,
             (1 << 21) - 1,
+            1 << 21,
+            1 << 22,
             1 << 24,
         ] {
             let s = Strata::new(m);
             let lo = (4 * m).min(1 << 23);
+            // The power-of-two window ends at 2²⁴ − 2m.
+            let hi2 = (1u32 << 24).saturating_sub(2 * m).max(1);
             let bits = [0u32, 1, 0xFFFF_FFFF, 0x8000_0000, 0x7FFF_FFFF];
             let edges = [
                 lo.saturating_sub(1),
                 lo,
                 (1 << 24) - lo,
                 ((1 << 24) - lo + 1).min((1 << 24) - 1),
+                hi2,
+                (hi2 + 1).min((1 << 24) - 1),
+                hi2 - 1,
             ];
-            let mut all: [u32; 13] = [0; 13];
+            let mut all: [u32; 19] = [0; 19];
             all[..5].copy_from_slice(&bits);
             for (k, e) in edges.iter().enumerate() {
                 all[5 + 2 * k] = e << 8;

@@ -85,6 +85,10 @@ impl Grid {
     }
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        if self.correlated {
+            self.gen_correlated(seed, first, sink);
+            return;
+        }
         let key = seed.counter(PURPOSE);
         let mut lanes: [CounterX8; 2] =
             core::array::from_fn(|j| key.lanes(first * 2 + j as u64, 2));
@@ -143,6 +147,75 @@ impl Grid {
         });
     }
 
+    /// Correlated multi-jitter: `x` of point `(i, j)` uses `π_x(j)` (one value
+    /// per row) and `y` uses `π_y(i)` (one per column), so both permutations
+    /// are tabulated for tiles of [`TILE`] rows and columns and every point is
+    /// a table read plus its jitter; values as [`Grid::gen_scalar`].
+    fn gen_correlated<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let len = sink.len() as u64;
+        if len == 0 {
+            return;
+        }
+        let key = seed.counter(PURPOSE);
+        let (kx, ky, _) = self.keys(seed);
+        let (m, n) = (u64::from(self.cols), u64::from(self.rows));
+        let axis = Strata::new(self.cols * self.rows);
+        let by_row = PermuteX8::new(self.rows, u32x8::splat(kx));
+        let by_col = PermuteX8::new(self.cols, u32x8::splat(ky));
+        let end = first + len;
+        let (j0, j1) = (first / m, (end - 1) / m + 1);
+        let (mut tx, mut ty) = ([0u32; TILE], [0u32; TILE]);
+        let vn = u32x8::splat(self.rows);
+        let lane = u32x8::new(core::array::from_fn(|l| l as u32));
+        let mut r0 = j0;
+        while r0 < j1 {
+            let rc = ((j1 - r0) as usize).min(TILE);
+            tabulate(&by_row, self.rows, r0, rc, &mut tx);
+            let mut c0 = 0;
+            while c0 < m {
+                let cc = ((m - c0) as usize).min(TILE);
+                // Columns [c0, c0 + cc) of rows [r0, r0 + rc) that lie in the range.
+                let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
+                let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
+                if (r0..r0 + rc as u64).all(|j| col_lo(j) >= col_hi(j)) {
+                    c0 += cc as u64;
+                    continue;
+                }
+                tabulate(&by_col, self.cols, c0, cc, &mut ty);
+                for j in r0..r0 + rc as u64 {
+                    let (lo, hi) = (col_lo(j), col_hi(j));
+                    if lo >= hi {
+                        continue;
+                    }
+                    let px = tx[(j - r0) as usize];
+                    let k0 = j * m + lo;
+                    let count = (hi - lo) as usize;
+                    let t0 = (lo - c0) as usize;
+                    let mut bx = key.lanes(2 * k0, 2);
+                    let mut by = key.lanes(2 * k0 + 1, 2);
+                    let (vpx, vrow) = (u32x8::splat(px), u32x8::splat((j * m) as u32));
+                    let mut vi = u32x8::splat(lo as u32) + lane;
+                    for b in 0..count / 8 {
+                        let t = t0 + 8 * b;
+                        let py = u32x8::new(core::array::from_fn(|l| ty[t + l]));
+                        let x = axis.point_x8(vi * vn + vpx, bx.next_u32x8());
+                        let y = axis.point_x8(vrow + py, by.next_u32x8());
+                        sink.put8((k0 - first) as usize + 8 * b, [x, y]);
+                        vi += u32x8::splat(8);
+                    }
+                    for t in 8 * (count / 8)..count {
+                        let (k, i) = (k0 + t as u64, lo + t as u64);
+                        let x = axis.point((i * n) as u32 + px, key.at(2 * k));
+                        let y = axis.point((j * m) as u32 + ty[t0 + t], key.at(2 * k + 1));
+                        sink.put((k - first) as usize, [x, y]);
+                    }
+                }
+                c0 += cc as u64;
+            }
+            r0 += rc as u64;
+        }
+    }
+
     fn gen_scalar<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let (kx, ky, step) = self.keys(seed);
@@ -157,6 +230,31 @@ impl Grid {
             let x = axis.point(i * n + px, key.at(2 * k));
             let y = axis.point(j * m + py, key.at(2 * k + 1));
             sink.put(t, [x, y]);
+        }
+    }
+}
+
+/// Rows and columns per permutation table of correlated multi-jitter (two
+/// stack tables of 1 KiB).
+const TILE: usize = 256;
+
+/// `t[v] = π(start + v)` for `v < count` (`count ≤ TILE`), 32 at a time. The
+/// padding reads `π(n − 1)`: an index outside the domain could start a
+/// cycle-walk that never returns to it.
+fn tabulate(p: &PermuteX8, n: u32, start: u64, count: usize, t: &mut [u32; TILE]) {
+    let groups = count.div_ceil(32);
+    for g in 0..groups {
+        let idx: [u32x8; 4] = core::array::from_fn(|v| {
+            u32x8::new(core::array::from_fn(|l| {
+                (start + (32 * g + 8 * v + l) as u64).min(u64::from(n) - 1) as u32
+            }))
+        });
+        let out = PermuteX8::apply4([p; 4], idx);
+        for (v, o) in out.iter().enumerate() {
+            let at = 32 * g + 8 * v;
+            if at < TILE {
+                t[at..at + 8].copy_from_slice(&o.to_array());
+            }
         }
     }
 }
