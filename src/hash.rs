@@ -87,6 +87,16 @@ pub const fn domain_mask(n: u32) -> u32 {
     }
 }
 
+/// Words a key expands to: the Feistel round keys and the rotation word.
+pub(crate) const KEY_WORDS: usize = ROUNDS as usize + 1;
+
+/// The [`KEY_WORDS`] words of `key` (`round_key(key, r)`).
+#[inline]
+#[must_use]
+pub(crate) fn key_words(key: u32) -> [u32; KEY_WORDS] {
+    core::array::from_fn(|r| round_key(key, r as u32))
+}
+
 /// Round keys and rotation of one permutation.
 #[inline(always)]
 const fn round_key(key: u32, r: u32) -> u32 {
@@ -119,8 +129,9 @@ const fn feistel(
 
 /// Element `i` of the random permutation of `[0, n)` selected by `key`.
 ///
-/// `i` must be below `n`; in release builds an `i ≥ n` returns an unspecified
-/// value below `n` (debug builds assert). For `n ≤ 1` the result is 0.
+/// `i` must be below `n`; in release builds an `i ≥ n` is reduced modulo `n`
+/// first (debug builds assert): cycle-walking from outside `[0, n)` could
+/// otherwise run forever. For `n ≤ 1` the result is 0.
 #[inline]
 #[must_use]
 pub fn permute(i: u32, n: u32, key: u32) -> u32 {
@@ -128,8 +139,9 @@ pub fn permute(i: u32, n: u32, key: u32) -> u32 {
     if n <= 1 {
         return 0;
     }
+    let i = if i < n { i } else { i % n };
     if n <= SMALL_DOMAIN {
-        return permute_small(i % n, n, key);
+        return permute_small(i, n, key);
     }
     let mask = domain_mask(n);
     let bits = mask.count_ones();
@@ -192,21 +204,39 @@ impl PermuteX8 {
     #[inline(always)]
     #[must_use]
     pub fn new(n: u32, key: u32x8) -> Self {
-        let rk = |r: u32| {
-            mix32x8(key ^ u32x8::splat(r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)))
+        let words = if n > SMALL_DOMAIN {
+            core::array::from_fn(|r| {
+                mix32x8(
+                    key ^ u32x8::splat(
+                        (r as u32)
+                            .wrapping_mul(0x9E37_79B9)
+                            .wrapping_add(0x7F4A_7C15),
+                    ),
+                )
+            })
+        } else {
+            [u32x8::ZERO; KEY_WORDS]
         };
+        Self::from_words(n, key, &words)
+    }
+
+    /// As [`PermuteX8::new`], with each lane's [`key_words`] given (word `r`
+    /// of lane `l` in `words[r]`), for callers that tabulate them once per key.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn from_words(n: u32, key: u32x8, words: &[u32x8; KEY_WORDS]) -> Self {
         let mask = domain_mask(n);
         let big = n > SMALL_DOMAIN;
         PermuteX8 {
             n,
             key,
             keys: if big {
-                core::array::from_fn(|r| rk(r as u32))
+                core::array::from_fn(|r| words[r])
             } else {
                 [u32x8::ZERO; ROUNDS as usize]
             },
             rotation: if big {
-                rk(ROUNDS).mul_keep_high(u32x8::splat(n))
+                words[ROUNDS as usize].mul_keep_high(u32x8::splat(n))
             } else {
                 u32x8::ZERO
             },
@@ -258,7 +288,9 @@ impl PermuteX8 {
         y - (over & vn)
     }
 
-    /// `permute(i_l, n, key_l)` in lane `l`.
+    /// `permute(i_l, n, key_l)` in lane `l`. Every lane must be below `n`: the
+    /// vector path does not reduce, and a cycle walk that starts outside
+    /// `[0, n)` may never end.
     #[inline(always)]
     #[must_use]
     pub fn apply(&self, i: u32x8) -> u32x8 {

@@ -393,6 +393,25 @@ impl CounterX8 {
         }
     }
 
+    /// Moves the lanes to read outputs `first, first + stride, …` again (as
+    /// [`Counter::lanes`] with the same key); the per-block words are only
+    /// recomputed when a lane's high counter word changed, so this is cheap
+    /// enough to call per short run.
+    #[inline]
+    pub fn seek(&mut self, first: u64, stride: u64) {
+        let c0 = self.key.offset.wrapping_add(first);
+        let c: [u64; 8] = core::array::from_fn(|l| c0.wrapping_add(stride.wrapping_mul(l as u64)));
+        let step = stride.wrapping_mul(8);
+        let hi = u32x8::new(c.map(|v| (v >> 32) as u32));
+        self.lo = u32x8::new(c.map(|v| v as u32));
+        self.step_lo = u32x8::splat(step as u32);
+        self.step_hi = (step >> 32) as u32;
+        if hi.simd_ne(self.hi).any() {
+            self.hi = hi;
+            self.refresh();
+        }
+    }
+
     /// How many steps every lane can take before a low word wraps.
     fn carry_free(&self) -> usize {
         if self.step_hi != 0 {

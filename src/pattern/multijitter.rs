@@ -22,11 +22,11 @@
 //! Technical Memo 13-01 (2013).
 
 use super::sealed::{Generate, Sink};
-use super::{advance8, build, check_n, drive32, lanes_of, Strata, MAX_STRATA};
+use super::{check_n, Strata, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{permute, PermuteX8};
-use crate::rng::{CounterX8, Seed};
-use wide::{f32x8, u32x8};
+use crate::hash::{key_words, permute, PermuteX8, KEY_WORDS, SMALL_DOMAIN};
+use crate::rng::Seed;
+use wide::u32x8;
 
 const PURPOSE: u64 = 0x4D4A_4954;
 
@@ -85,95 +85,54 @@ impl Grid {
     }
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        if self.correlated {
-            self.gen_correlated(seed, first, sink);
-            return;
-        }
-        let key = seed.counter(PURPOSE);
-        let mut lanes: [CounterX8; 2] =
-            core::array::from_fn(|j| key.lanes(first * 2 + j as u64, 2));
-        let (kx, ky, step) = self.keys(seed);
-        let (m, n) = (self.cols, self.rows);
-        let axis = Strata::new(m * n);
-        let radix = [u32x8::splat(m), u32x8::splat(n)];
-        let mut cell = lanes_of(|l| {
-            let k = first + l as u64;
-            [
-                (k % u64::from(m)) as u32,
-                ((k / u64::from(m)) % u64::from(n)) as u32,
-            ]
-        });
-        let (vm, vn, vstep) = (u32x8::splat(m), u32x8::splat(n), u32x8::splat(step));
-        // Correlated: one key per axis for every lane, so the round keys are
-        // computed once; otherwise per column / row, per block.
-        let fixed = (
-            PermuteX8::new(n, u32x8::splat(kx)),
-            PermuteX8::new(m, u32x8::splat(ky)),
-        );
-        let correlated = self.correlated;
-        drive32(sink, || {
-            let cells: [[u32x8; 2]; 4] = build([u32x8::ZERO; 2], |_| {
-                let c = cell;
-                advance8(&mut cell, &radix);
-                c
-            });
-            let rows: [u32x8; 4] = build(u32x8::ZERO, |b| cells[b][1]);
-            let cols: [u32x8; 4] = build(u32x8::ZERO, |b| cells[b][0]);
-            let (px, py) = if correlated {
-                (
-                    PermuteX8::apply4([&fixed.0; 4], rows),
-                    PermuteX8::apply4([&fixed.1; 4], cols),
-                )
-            } else {
-                // One key per column (row) and lane: the round keys differ per
-                // vector, and four sets of them would not fit in registers, so
-                // each vector is permuted on its own.
-                (
-                    build(u32x8::ZERO, |b| {
-                        PermuteX8::new(n, u32x8::splat(kx) + cols[b] * vstep).apply(rows[b])
-                    }),
-                    build(u32x8::ZERO, |b| {
-                        PermuteX8::new(m, u32x8::splat(ky) + rows[b] * vstep).apply(cols[b])
-                    }),
-                )
-            };
-            build([f32x8::ZERO; 2], |b| {
-                let [i, j] = cells[b];
-                [
-                    axis.point_x8(i * vn + px[b], lanes[0].next_u32x8()),
-                    axis.point_x8(j * vm + py[b], lanes[1].next_u32x8()),
-                ]
-            })
-        });
+        self.gen_tiled(seed, first, sink);
     }
 
-    /// Correlated multi-jitter: `x` of point `(i, j)` uses `π_x(j)` (one value
-    /// per row) and `y` uses `π_y(i)` (one per column), so both permutations
-    /// are tabulated for tiles of [`TILE`] rows and columns and every point is
-    /// a table read plus its jitter; values as [`Grid::gen_scalar`].
-    fn gen_correlated<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    /// Both variants, tile by tile. Point `(i, j)` (column `i`, row `j`) has
+    /// `x` from `π_x(j)` with key `k_x + i·s` and `y` from `π_y(i)` with key
+    /// `k_y + j·s`, where `s = 0` for correlated multi-jitter. Rows run over
+    /// tiles of columns:
+    /// * correlated: both permutations are tabulated per tile of [`TILE`]
+    ///   rows and columns, so a point costs two table reads and its jitter;
+    /// * multi-jittered: the `y` keys are one per row, expanded once per row
+    ///   run; the `x` keys are one per column, and their expansions (round
+    ///   keys and rotation, [`crate::hash::key_words`]) are tabulated per tile
+    ///   of [`MJ_TILE`] columns and reused by every row.
+    ///
+    /// Values as [`Grid::gen_scalar`].
+    fn gen_tiled<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let len = sink.len() as u64;
         if len == 0 {
             return;
         }
         let key = seed.counter(PURPOSE);
-        let (kx, ky, _) = self.keys(seed);
-        let (m, n) = (u64::from(self.cols), u64::from(self.rows));
+        let (kx, ky, step) = self.keys(seed);
+        let correlated = self.correlated;
+        let m = u64::from(self.cols);
         let axis = Strata::new(self.cols * self.rows);
         let by_row = PermuteX8::new(self.rows, u32x8::splat(kx));
         let by_col = PermuteX8::new(self.cols, u32x8::splat(ky));
         let end = first + len;
         let (j0, j1) = (first / m, (end - 1) / m + 1);
         let (mut tx, mut ty) = ([0u32; TILE], [0u32; TILE]);
-        let vn = u32x8::splat(self.rows);
+        let mut words = [[0u32; MJ_TILE]; KEY_WORDS];
+        let col_tile = if correlated { TILE } else { MJ_TILE };
+        let (vn, vstep, vkx) = (
+            u32x8::splat(self.rows),
+            u32x8::splat(step),
+            u32x8::splat(kx),
+        );
         let lane = u32x8::new(core::array::from_fn(|l| l as u32));
+        let (mut bx0, mut by0) = (key.lanes(2 * first, 2), key.lanes(2 * first + 1, 2));
         let mut r0 = j0;
         while r0 < j1 {
             let rc = ((j1 - r0) as usize).min(TILE);
-            tabulate(&by_row, self.rows, r0, rc, &mut tx);
+            if correlated {
+                tabulate(&by_row, self.rows, r0, rc, &mut tx);
+            }
             let mut c0 = 0;
             while c0 < m {
-                let cc = ((m - c0) as usize).min(TILE);
+                let cc = ((m - c0) as usize).min(col_tile);
                 // Columns [c0, c0 + cc) of rows [r0, r0 + rc) that lie in the range.
                 let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
                 let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
@@ -181,32 +140,100 @@ impl Grid {
                     c0 += cc as u64;
                     continue;
                 }
-                tabulate(&by_col, self.cols, c0, cc, &mut ty);
+                if correlated {
+                    tabulate(&by_col, self.cols, c0, cc, &mut ty);
+                } else if self.rows > SMALL_DOMAIN {
+                    for t in 0..cc {
+                        let w =
+                            key_words(kx.wrapping_add((c0 as u32 + t as u32).wrapping_mul(step)));
+                        for (r, wr) in words.iter_mut().enumerate() {
+                            wr[t] = w[r];
+                        }
+                    }
+                }
                 for j in r0..r0 + rc as u64 {
                     let (lo, hi) = (col_lo(j), col_hi(j));
                     if lo >= hi {
                         continue;
                     }
-                    let px = tx[(j - r0) as usize];
                     let k0 = j * m + lo;
                     let count = (hi - lo) as usize;
                     let t0 = (lo - c0) as usize;
-                    let mut bx = key.lanes(2 * k0, 2);
-                    let mut by = key.lanes(2 * k0 + 1, 2);
-                    let (vpx, vrow) = (u32x8::splat(px), u32x8::splat((j * m) as u32));
+                    // Local copies (kept in registers), moved without rehashing.
+                    bx0.seek(2 * k0, 2);
+                    by0.seek(2 * k0 + 1, 2);
+                    let (mut bx, mut by) = (bx0.clone(), by0.clone());
+                    let vrow = u32x8::splat((j * m) as u32);
+                    let vj = u32x8::splat(j as u32);
+                    let row_perm = PermuteX8::new(
+                        self.cols,
+                        u32x8::splat(ky.wrapping_add((j as u32).wrapping_mul(step))),
+                    );
                     let mut vi = u32x8::splat(lo as u32) + lane;
-                    for b in 0..count / 8 {
-                        let t = t0 + 8 * b;
-                        let py = u32x8::new(core::array::from_fn(|l| ty[t + l]));
-                        let x = axis.point_x8(vi * vn + vpx, bx.next_u32x8());
-                        let y = axis.point_x8(vrow + py, by.next_u32x8());
-                        sink.put8((k0 - first) as usize + 8 * b, [x, y]);
-                        vi += u32x8::splat(8);
+                    // Groups of four blocks: four independent permutation
+                    // chains in flight (PermuteX8::apply4).
+                    let blocks = count / 8;
+                    let mut b = 0;
+                    while b < blocks {
+                        let g = (blocks - b).min(4);
+                        let vis: [u32x8; 4] =
+                            core::array::from_fn(|v| vi + u32x8::splat(8 * v as u32));
+                        let (px, py): ([u32x8; 4], [u32x8; 4]) = if correlated {
+                            (
+                                [u32x8::splat(tx[(j - r0) as usize]); 4],
+                                core::array::from_fn(|v| {
+                                    let t = (t0 + 8 * (b + v)).min(TILE - 8);
+                                    u32x8::new(core::array::from_fn(|l| ty[t + l]))
+                                }),
+                            )
+                        } else {
+                            let perm = |v: usize| {
+                                let t = (t0 + 8 * (b + v)).min(MJ_TILE - 8);
+                                let mut w = [u32x8::ZERO; KEY_WORDS];
+                                for r in 0..KEY_WORDS {
+                                    let a: [u32; 8] =
+                                        words[r][t..t + 8].try_into().unwrap_or([0; 8]);
+                                    w[r] = u32x8::new(a);
+                                }
+                                PermuteX8::from_words(self.rows, vkx + vis[v] * vstep, &w)
+                            };
+                            let perms = [perm(0), perm(1), perm(2), perm(3)];
+                            if g == 4 {
+                                (
+                                    PermuteX8::apply4(
+                                        [&perms[0], &perms[1], &perms[2], &perms[3]],
+                                        [vj; 4],
+                                    ),
+                                    PermuteX8::apply4([&row_perm; 4], vis),
+                                )
+                            } else {
+                                // Only the g blocks in range: lanes past the row's
+                                // end are outside [0, m), where a cycle walk
+                                // need not end.
+                                let mut px = [u32x8::ZERO; 4];
+                                let mut py = [u32x8::ZERO; 4];
+                                for v in 0..g {
+                                    px[v] = perms[v].apply(vj);
+                                    py[v] = row_perm.apply(vis[v]);
+                                }
+                                (px, py)
+                            }
+                        };
+                        for v in 0..g {
+                            let x = axis.point_x8(vis[v] * vn + px[v], bx.next_u32x8());
+                            let y = axis.point_x8(vrow + py[v], by.next_u32x8());
+                            sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                        }
+                        b += g;
+                        vi += u32x8::splat(8 * g as u32);
                     }
                     for t in 8 * (count / 8)..count {
                         let (k, i) = (k0 + t as u64, lo + t as u64);
-                        let x = axis.point((i * n) as u32 + px, key.at(2 * k));
-                        let y = axis.point((j * m) as u32 + ty[t0 + t], key.at(2 * k + 1));
+                        let (i32_, j32) = (i as u32, j as u32);
+                        let px = permute(j32, self.rows, kx.wrapping_add(i32_.wrapping_mul(step)));
+                        let py = permute(i32_, self.cols, ky.wrapping_add(j32.wrapping_mul(step)));
+                        let x = axis.point(i32_ * self.rows + px, key.at(2 * k));
+                        let y = axis.point(j32 * self.cols + py, key.at(2 * k + 1));
                         sink.put((k - first) as usize, [x, y]);
                     }
                 }
@@ -237,6 +264,9 @@ impl Grid {
 /// Rows and columns per permutation table of correlated multi-jitter (two
 /// stack tables of 1 KiB).
 const TILE: usize = 256;
+
+/// Columns per key-word table of multi-jitter (`KEY_WORDS·64` words, 2.3 KiB).
+const MJ_TILE: usize = 64;
 
 /// `t[v] = π(start + v)` for `v < count` (`count ≤ TILE`), 32 at a time. The
 /// padding reads `π(n − 1)`: an index outside the domain could start a
