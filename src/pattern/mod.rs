@@ -602,6 +602,8 @@ pub(crate) struct StrataX8 {
     inv32: f32x8,
     lo: wide::i32x8,
     hi: wide::i32x8,
+    /// Every lane's `lo` is 0 (`U ≥ 0` always holds).
+    one_sided: bool,
 }
 
 impl StrataX8 {
@@ -614,6 +616,7 @@ impl StrataX8 {
             inv32: f32x8::new(lanes.map(|s| s.inv32)),
             lo: wide::i32x8::new(lanes.map(|s| s.lo)),
             hi: wide::i32x8::new(lanes.map(|s| s.hi)),
+            one_sided: lanes.iter().all(|s| s.lo == 0),
         }
     }
 
@@ -634,7 +637,13 @@ impl StrataX8 {
         let u: wide::i32x8 = bytemuck::cast(bits >> 8);
         let uf = f32x8::from_i32x8(u) * f32x8::splat(1.0 / 16_777_216.0);
         let v = (c + uf) * self.inv32;
-        (v, u.simd_lt(self.lo) | u.simd_gt(self.hi))
+        // Power-of-two strata have lo = 0 in every lane: one compare.
+        let slow = if self.one_sided {
+            u.simd_gt(self.hi)
+        } else {
+            u.simd_lt(self.lo) | u.simd_gt(self.hi)
+        };
+        (v, slow)
     }
 
     /// The exact test and the one-ulp moves of [`Strata::point`], in lanes (a
