@@ -97,10 +97,16 @@ pub(crate) fn key_words(key: u32) -> [u32; KEY_WORDS] {
     core::array::from_fn(|r| round_key(key, r as u32))
 }
 
+/// The constant that separates round `r` from the others.
+#[inline(always)]
+const fn round_const(r: u32) -> u32 {
+    r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)
+}
+
 /// Round keys and rotation of one permutation.
 #[inline(always)]
 const fn round_key(key: u32, r: u32) -> u32 {
-    mix32(key ^ r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15))
+    mix32(key ^ round_const(r))
 }
 
 /// The keyed bijection `P` of `[0, 2ᵇ)` (lo = low `lo_bits` bits).
@@ -205,15 +211,7 @@ impl PermuteX8 {
     #[must_use]
     pub fn new(n: u32, key: u32x8) -> Self {
         let words = if n > SMALL_DOMAIN {
-            core::array::from_fn(|r| {
-                mix32x8(
-                    key ^ u32x8::splat(
-                        (r as u32)
-                            .wrapping_mul(0x9E37_79B9)
-                            .wrapping_add(0x7F4A_7C15),
-                    ),
-                )
-            })
+            core::array::from_fn(|r| mix32x8(key ^ u32x8::splat(round_const(r as u32))))
         } else {
             [u32x8::ZERO; KEY_WORDS]
         };

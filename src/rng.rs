@@ -310,18 +310,16 @@ impl Counter {
     /// [`CounterX8::next_u32x8`] then moves every lane on by `8·stride`.
     #[must_use]
     pub fn lanes(&self, first: u64, stride: u64) -> CounterX8 {
-        let c0 = self.offset.wrapping_add(first);
-        let c: [u64; 8] = core::array::from_fn(|l| c0.wrapping_add(stride.wrapping_mul(l as u64)));
-        let step = stride.wrapping_mul(8);
         let mut x = CounterX8 {
-            lo: u32x8::new(c.map(|v| v as u32)),
-            hi: u32x8::new(c.map(|v| (v >> 32) as u32)),
+            lo: u32x8::ZERO,
+            hi: u32x8::ZERO,
             wa: u32x8::ZERO,
             wm: u32x8::ZERO,
-            step_lo: u32x8::splat(step as u32),
-            step_hi: (step >> 32) as u32,
+            step_lo: u32x8::ZERO,
+            step_hi: 0,
             key: *self,
         };
+        x.place(first, stride);
         x.refresh();
         x
     }
@@ -399,6 +397,15 @@ impl CounterX8 {
     /// enough to call per short run.
     #[inline]
     pub fn seek(&mut self, first: u64, stride: u64) {
+        if self.place(first, stride) {
+            self.refresh();
+        }
+    }
+
+    /// Sets the counters and step for `first, first + stride, …` without the
+    /// per-block words; returns whether a lane's high word changed.
+    #[inline]
+    fn place(&mut self, first: u64, stride: u64) -> bool {
         let c0 = self.key.offset.wrapping_add(first);
         let c: [u64; 8] = core::array::from_fn(|l| c0.wrapping_add(stride.wrapping_mul(l as u64)));
         let step = stride.wrapping_mul(8);
@@ -406,10 +413,9 @@ impl CounterX8 {
         self.lo = u32x8::new(c.map(|v| v as u32));
         self.step_lo = u32x8::splat(step as u32);
         self.step_hi = (step >> 32) as u32;
-        if hi.simd_ne(self.hi).any() {
-            self.hi = hi;
-            self.refresh();
-        }
+        let moved = hi.simd_ne(self.hi).any();
+        self.hi = hi;
+        moved
     }
 
     /// How many steps every lane can take before a low word wraps.
@@ -609,6 +615,50 @@ mod tests {
                     let t = first.wrapping_add((8 * b + l as u64).wrapping_mul(stride));
                     assert_eq!(v, key.at(t), "offset {offset} stride {stride} b {b} l {l}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn chunks_and_seek_match_scalar_across_carries() {
+        // Offsets just below a 2³² boundary, so that reads cross a carry out
+        // of the low counter word (chunks' slow step) at varying positions.
+        for (o, stride) in [
+            ((1u64 << 32) - 37, 1u64),
+            ((5u64 << 32) - 100, 2),
+            ((1u64 << 33) - 7, 3),
+        ] {
+            let key = Counter::from_key(o, 0x1234_5678, 0x9ABC_DEF1);
+            for first in [0u64, 5, 13] {
+                let check = |got: &[u32x8], from: u64, what: &str| {
+                    for (v, g) in got.iter().enumerate() {
+                        for (l, &x) in g.to_array().iter().enumerate() {
+                            let t = from + (8 * v + l) as u64 * stride;
+                            assert_eq!(
+                                x,
+                                key.at(t),
+                                "{what} o {o} first {first} vector {v} lane {l}"
+                            );
+                        }
+                    }
+                };
+                let mut lanes = key.lanes(first, stride);
+                let mut got = [u32x8::ZERO; 21];
+                lanes.chunks::<3>(7, |b, out| got[3 * b..3 * b + 3].copy_from_slice(&out));
+                check(&got, first, "chunks");
+                // The lanes continue where 21 next_u32x8 calls would leave them.
+                check(
+                    &[lanes.next_u32x8()],
+                    first + 21 * 8 * stride,
+                    "after chunks",
+                );
+                // Seeking back and forth reads the same outputs again.
+                lanes.seek(first, stride);
+                let again: [u32x8; 21] = core::array::from_fn(|_| lanes.next_u32x8());
+                check(&again, first, "seek");
+                lanes.seek(first + (1 << 40), stride);
+                lanes.seek(first, stride);
+                check(&[lanes.next_u32x8()], first, "seek far and back");
             }
         }
     }

@@ -2,10 +2,11 @@
 
 use super::sealed::{Generate, Sink};
 use super::{
-    advance8, build, check_dims, drive8, lanes_of, odometer_step, Strata, StrataX8, MAX_STRATA,
+    advance8, build, check_dims, drive8, lanes_of, odometer_step, put_flat, Aos, Strata, StrataX8,
+    MAX_STRATA,
 };
 use crate::error::PatternError;
-use crate::rng::{Counter, CounterX8, Seed};
+use crate::rng::{CounterX8, Seed};
 use wide::{f32x8, u32x8};
 
 /// Jittered sampling: the unit cube is cut into `m₁×…×m_D` equal cells and each
@@ -100,7 +101,8 @@ impl<const D: usize> Jittered<D> {
     /// `D` vectors of consecutive stream outputs; vector `v`, lane `l` holds
     /// axis `(8v + l) mod D` of point `⌊(8v + l)/D⌋` of the block.
     #[inline(always)]
-    fn gen_flat(&self, key: Counter, first: u64, flat: &mut [f32]) {
+    fn gen_flat(&self, seed: Seed, first: u64, flat: &mut [f32]) {
+        let key = seed.counter(PURPOSE);
         let axis = |v: usize, l: usize| (8 * v + l) % D;
         let axes: [Strata; D] = self.strata.map(Strata::new);
         let sx: [StrataX8; D] =
@@ -121,16 +123,7 @@ impl<const D: usize> Jittered<D> {
         let blocks = flat.len() / (8 * D);
         let mut lanes = key.lanes(first * D as u64, 1);
         lanes.chunks::<D>(blocks, |b, bits| {
-            let out = &mut flat[8 * D * b..8 * D * (b + 1)];
-            let mut slow = wide::i32x8::ZERO;
-            for v in 0..D {
-                let (x, sv) = sx[v].fast_x8(cf[v], bits[v]);
-                out[8 * v..8 * v + 8].copy_from_slice(&x.to_array());
-                slow |= sv;
-            }
-            if slow.any() {
-                Self::fix_block(&sx, &cf, out);
-            }
+            put_flat(&sx, &cf, &bits, &mut flat[8 * D * b..8 * D * (b + 1)]);
             row_left -= 1;
             if row_left == 0 {
                 self.next_row(&mut cell, &mut cf);
@@ -141,24 +134,9 @@ impl<const D: usize> Jittered<D> {
                 }
             }
         });
-        for k in 8 * blocks..flat.len() / D {
-            let p = first + k as u64;
-            let c = self.cell_of(p);
-            for j in 0..D {
-                flat[D * k + j] = axes[j].point(c[j], key.at(p * D as u64 + j as u64));
-            }
-        }
-    }
-
-    /// The exact fix of [`Strata::point`] for the vectors of one flat block
-    /// (lanes already inside their cell are left as they are).
-    #[cold]
-    #[inline(never)]
-    fn fix_block(sx: &[StrataX8; D], cf: &[f32x8; D], out: &mut [f32]) {
-        for (v, o) in out.chunks_exact_mut(8).enumerate() {
-            let x = f32x8::new(o.try_into().unwrap_or([0.0; 8]));
-            o.copy_from_slice(&sx[v].fix_x8(x, cf[v]).to_array());
-        }
+        let done = 8 * blocks;
+        let (points, _) = flat.as_chunks_mut::<D>();
+        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
     }
 
     /// The cells of a flat block's lanes (see [`Jittered::gen_flat`]) whose
@@ -205,7 +183,7 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         let d = D as u64;
         if let Some(flat) = sink.flat() {
             if self.strata[0].is_multiple_of(8) && first.is_multiple_of(8) {
-                self.gen_flat(key, first, flat);
+                self.gen_flat(seed, first, flat);
                 return;
             }
         }

@@ -670,6 +670,37 @@ impl StrataX8 {
     }
 }
 
+/// Stores one flat chunk of `K` vectors, lane-wise [`Strata::point`] of
+/// `cells[v]` and `bits[v]` with the constants `sx[v]`, into `out` (`8K`
+/// values). The exact fix runs out of line, and only when a lane needs it
+/// (lanes already inside their cell are left as they are).
+#[inline(always)]
+pub(crate) fn put_flat<const K: usize>(
+    sx: &[StrataX8; K],
+    cells: &[f32x8; K],
+    bits: &[wide::u32x8; K],
+    out: &mut [f32],
+) {
+    let mut slow = wide::i32x8::ZERO;
+    for v in 0..K {
+        let (x, sv) = sx[v].fast_x8(cells[v], bits[v]);
+        out[8 * v..8 * v + 8].copy_from_slice(&x.to_array());
+        slow |= sv;
+    }
+    if slow.any() {
+        fix_flat(sx, cells, out);
+    }
+}
+
+#[cold]
+#[inline(never)]
+fn fix_flat<const K: usize>(sx: &[StrataX8; K], cells: &[f32x8; K], out: &mut [f32]) {
+    for (v, o) in out.chunks_exact_mut(8).enumerate() {
+        let x = f32x8::new(o.try_into().unwrap_or([0.0; 8]));
+        o.copy_from_slice(&sx[v].fix_x8(x, cells[v]).to_array());
+    }
+}
+
 /// Adds 8 to per-lane mixed-radix counters `cell` (digit `j` in `[0, m_j)`, digit 0
 /// fastest), carrying between digits; the top digit wraps.
 #[inline(always)]

@@ -25,7 +25,7 @@ use super::sealed::{Generate, Sink};
 use super::{check_n, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{key_words, permute, PermuteX8, KEY_WORDS, SMALL_DOMAIN};
-use crate::rng::Seed;
+use crate::rng::{Counter, Seed};
 use wide::u32x8;
 
 const PURPOSE: u64 = 0x4D4A_4954;
@@ -165,10 +165,15 @@ impl Grid {
                     let (mut bx, mut by) = (bx0.clone(), by0.clone());
                     let vrow = u32x8::splat((j * m) as u32);
                     let vj = u32x8::splat(j as u32);
-                    let row_perm = PermuteX8::new(
-                        self.cols,
-                        u32x8::splat(ky.wrapping_add((j as u32).wrapping_mul(step))),
-                    );
+                    // π_y with this row's key (k_y itself for CMJ: by_col).
+                    let row_perm = if correlated {
+                        by_col
+                    } else {
+                        PermuteX8::new(
+                            self.cols,
+                            u32x8::splat(ky.wrapping_add((j as u32).wrapping_mul(step))),
+                        )
+                    };
                     let mut vi = u32x8::splat(lo as u32) + lane;
                     // Groups of four blocks: four independent permutation
                     // chains in flight (PermuteX8::apply4).
@@ -228,13 +233,11 @@ impl Grid {
                         vi += u32x8::splat(8 * g as u32);
                     }
                     for t in 8 * (count / 8)..count {
-                        let (k, i) = (k0 + t as u64, lo + t as u64);
-                        let (i32_, j32) = (i as u32, j as u32);
-                        let px = permute(j32, self.rows, kx.wrapping_add(i32_.wrapping_mul(step)));
-                        let py = permute(i32_, self.cols, ky.wrapping_add(j32.wrapping_mul(step)));
-                        let x = axis.point(i32_ * self.rows + px, key.at(2 * k));
-                        let y = axis.point(j32 * self.cols + py, key.at(2 * k + 1));
-                        sink.put((k - first) as usize, [x, y]);
+                        let k = k0 + t as u64;
+                        sink.put(
+                            (k - first) as usize,
+                            self.point(key, (kx, ky, step), &axis, k),
+                        );
                     }
                 }
                 c0 += cc as u64;
@@ -243,20 +246,32 @@ impl Grid {
         }
     }
 
+    /// Point `k` (column `i = k mod m`, row `j = ⌊k/m⌋`) by scalar code.
+    #[inline]
+    fn point(
+        &self,
+        key: Counter,
+        (kx, ky, step): (u32, u32, u32),
+        axis: &Strata,
+        k: u64,
+    ) -> [f32; 2] {
+        let (m, n) = (self.cols, self.rows);
+        let i = (k % u64::from(m)) as u32;
+        let j = (k / u64::from(m)) as u32;
+        let px = permute(j, n, kx.wrapping_add(i.wrapping_mul(step)));
+        let py = permute(i, m, ky.wrapping_add(j.wrapping_mul(step)));
+        [
+            axis.point(i * n + px, key.at(2 * k)),
+            axis.point(j * m + py, key.at(2 * k + 1)),
+        ]
+    }
+
     fn gen_scalar<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
-        let (kx, ky, step) = self.keys(seed);
-        let (m, n) = (self.cols, self.rows);
-        let axis = Strata::new(m * n);
+        let keys = self.keys(seed);
+        let axis = Strata::new(self.cols * self.rows);
         for t in 0..sink.len() {
-            let k = first + t as u64;
-            let i = (k % u64::from(m)) as u32;
-            let j = (k / u64::from(m)) as u32;
-            let px = permute(j, n, kx.wrapping_add(i.wrapping_mul(step)));
-            let py = permute(i, m, ky.wrapping_add(j.wrapping_mul(step)));
-            let x = axis.point(i * n + px, key.at(2 * k));
-            let y = axis.point(j * m + py, key.at(2 * k + 1));
-            sink.put(t, [x, y]);
+            sink.put(t, self.point(key, keys, &axis, first + t as u64));
         }
     }
 }

@@ -1,11 +1,11 @@
 //! N-rooks (Latin hypercube) sampling.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, check_n, drive32, Strata, StrataX8, MAX_STRATA};
+use super::{build, check_dims, check_n, drive32, put_flat, Aos, Strata, StrataX8, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{permute, PermuteX8};
-use crate::rng::{Counter, CounterX8, Seed};
-use wide::{f32x8, i32x8, u32x8};
+use crate::rng::{CounterX8, Seed};
+use wide::{f32x8, u32x8};
 
 /// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
 /// every axis is cut into `N` strata and each stratum of each axis holds exactly one
@@ -46,7 +46,8 @@ impl<const D: usize> NRooks<D> {
     /// vector permutes with per-lane axis keys (four chains at a time,
     /// [`PermuteX8::apply4`]) and is stored whole.
     #[inline(always)]
-    fn gen_flat<const K: usize>(&self, seed: Seed, key: Counter, first: u64, flat: &mut [f32]) {
+    fn gen_flat<const K: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
+        let key = seed.counter(PURPOSE);
         let keys = Self::keys(seed);
         let perms: [PermuteX8; D] = core::array::from_fn(|v| {
             PermuteX8::new(
@@ -57,17 +58,14 @@ impl<const D: usize> NRooks<D> {
         let offs: [u32x8; K] = core::array::from_fn(|w| {
             u32x8::new(core::array::from_fn(|l| ((8 * w + l) / D) as u32))
         });
-        let axis = Strata::new(self.n);
-        let sx = StrataX8::new([axis; 8]);
+        let sx = [StrataX8::new([Strata::new(self.n); 8]); K];
         let per_chunk = 8 * K / D; // points
         let chunks = flat.len() / (8 * K);
         let mut lanes = key.lanes(first * D as u64, 1);
         lanes.chunks::<K>(chunks, |b, bits| {
             // Every lane is a point of the range, so below n.
             let k0 = u32x8::splat((first + (per_chunk * b) as u64) as u32);
-            let out = &mut flat[8 * K * b..8 * K * (b + 1)];
             let mut cells = [f32x8::ZERO; K];
-            let mut slow = i32x8::ZERO;
             for g in (0..K).step_by(4) {
                 // Pads (w ≥ K) repeat vector g: valid input, result unused.
                 let w = |i: usize| if g + i < K { g + i } else { g };
@@ -86,36 +84,14 @@ impl<const D: usize> NRooks<D> {
                     ],
                 );
                 for i in 0..4.min(K - g) {
-                    let v = g + i;
-                    cells[v] = f32x8::from_i32x8(bytemuck::cast(c[i]));
-                    let (x, sv) = sx.fast_x8(cells[v], bits[v]);
-                    out[8 * v..8 * v + 8].copy_from_slice(&x.to_array());
-                    slow |= sv;
+                    cells[g + i] = f32x8::from_i32x8(bytemuck::cast(c[i]));
                 }
             }
-            if slow.any() {
-                fix_block(&sx, &cells, out);
-            }
+            put_flat(&sx, &cells, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
         });
-        for k in per_chunk * chunks..flat.len() / D {
-            let p = first + k as u64;
-            for j in 0..D {
-                flat[D * k + j] = axis.point(
-                    permute(p as u32, self.n, keys[j]),
-                    key.at(p * D as u64 + j as u64),
-                );
-            }
-        }
-    }
-}
-
-/// The exact fix of [`Strata::point`] for the `K` vectors of one flat chunk.
-#[cold]
-#[inline(never)]
-fn fix_block<const K: usize>(sx: &StrataX8, cells: &[f32x8; K], out: &mut [f32]) {
-    for (v, o) in out.chunks_exact_mut(8).enumerate() {
-        let x = f32x8::new(o.try_into().unwrap_or([0.0; 8]));
-        o.copy_from_slice(&sx.fix_x8(x, cells[v]).to_array());
+        let done = per_chunk * chunks;
+        let (points, _) = flat.as_chunks_mut::<D>();
+        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
     }
 }
 
@@ -131,8 +107,8 @@ impl<const D: usize> Generate<D> for NRooks<D> {
             // Chunks of 4 vectors in 1D and 2D (four and two blocks), of 12 (four
             // blocks) in 3D: the fastest of 3, 4, 6, 8 and 12 measured.
             match D {
-                1 | 2 => self.gen_flat::<4>(seed, key, first, flat),
-                _ => self.gen_flat::<12>(seed, key, first, flat),
+                1 | 2 => self.gen_flat::<4>(seed, first, flat),
+                _ => self.gen_flat::<12>(seed, first, flat),
             }
             return;
         }

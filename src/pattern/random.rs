@@ -1,7 +1,7 @@
 //! Uniform random points.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
+use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8, Aos};
 use crate::error::PatternError;
 use crate::rng::{CounterX8, Seed};
 use wide::f32x8;
@@ -44,18 +44,17 @@ impl<const D: usize> Generate<D> for Random<D> {
         let d = D as u64;
         if let Some(flat) = sink.flat() {
             // Flat index i is stream output first·D + i: eight consecutive
-            // outputs per vector, stored contiguously.
-            // The vector stores are aligned to 32 bytes (a store that splits a
-            // cache line costs two); the few values before and after are scalar.
-            let t0 = first * d;
-            let (head, body, _) = bytemuck::pod_align_to_mut::<f32, f32x8>(flat);
-            let (h, nb) = (head.len(), body.len());
-            let mut lanes = key.lanes(t0 + h as u64, 1);
-            lanes.chunks(nb, |b, [bits]| body[b] = unit_f32x8(bits));
-            let tail = h + 8 * nb;
-            for i in (0..h).chain(tail..flat.len()) {
-                flat[i] = unit_f32(key.at(t0 + i as u64));
-            }
+            // outputs per vector, stored whole; the last point or few by the
+            // scalar path (a point split by the last vector is written twice,
+            // with the same value).
+            let vectors = flat.len() / 8;
+            let mut lanes = key.lanes(first * d, 1);
+            lanes.chunks(vectors, |b, [bits]| {
+                flat[8 * b..8 * b + 8].copy_from_slice(&unit_f32x8(bits).to_array());
+            });
+            let done = 8 * vectors / D;
+            let (points, _) = flat.as_chunks_mut::<D>();
+            self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
             return;
         }
         let mut lanes: [CounterX8; D] =
