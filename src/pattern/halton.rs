@@ -366,32 +366,53 @@ const fn digit_mu(lambda: u32, k: u32) -> u32 {
 #[inline(always)]
 fn scrambled_digits(index: u32, base: &Base, dim: u32, mu: impl Fn(u32) -> u32) -> (u32, u32) {
     let b = base.b;
-    let (mut q, mut prefix, mut cell, mut tail) = (index, 0u32, 0u32, 0u32);
-    let mut k = 0;
-    while k < base.digits && q != 0 {
+    let (mut q, mut prefix) = (index, 0u32);
+    // Digits of the index: `k < nd`.
+    let nd = digit_count(index, base);
+    let (mut cell, mut tail) = (0u32, 0u32);
+    fold_scalar(b, base.cell_digits, 0, nd, &mut cell, &mut tail, |k| {
         let qn = base.div.div(q);
         let a = q - qn * b;
         let d = scrambled_digit(a, prefix, base, dim, mu(k));
-        if k < base.cell_digits {
-            cell = cell * b + d;
-        } else {
-            tail = tail * b + d;
-        }
         prefix = prefix.wrapping_add(a.wrapping_mul(base.pow[k as usize]));
         q = qn;
-        k += 1;
-    }
+        d
+    });
     let y = prefix_hash(index, dim);
-    while k < base.digits {
-        let d = affine_digit(0, b, base.small, digit_hash(y, mu(k)));
-        if k < base.cell_digits {
-            cell = cell * b + d;
-        } else {
-            tail = tail * b + d;
-        }
-        k += 1;
-    }
+    fold_scalar(
+        b,
+        base.cell_digits,
+        nd,
+        base.digits,
+        &mut cell,
+        &mut tail,
+        |k| affine_digit(0, b, base.small, digit_hash(y, mu(k))),
+    );
     (cell, tail)
+}
+
+/// Scalar [`fold_digits`]: `digit(k)` for `k ∈ [lo, hi)` into `cell` (`k < j`)
+/// and `tail` (`k ≥ j`) in base `b`, one loop per accumulator.
+#[inline(always)]
+fn fold_scalar(
+    b: u32,
+    j: u32,
+    lo: u32,
+    hi: u32,
+    cell: &mut u32,
+    tail: &mut u32,
+    mut digit: impl FnMut(u32) -> u32,
+) {
+    let mut c = *cell;
+    for k in lo..hi.min(j) {
+        c = c * b + digit(k);
+    }
+    *cell = c;
+    let mut t = *tail;
+    for k in lo.max(j)..hi {
+        t = t * b + digit(k);
+    }
+    *tail = t;
 }
 
 #[inline(always)]
@@ -473,27 +494,20 @@ fn coord_x8<const B: u32>(s0: u32, nd: u32, keys: &DimKeys, lead: &Lead) -> f32x
     let r0 = s0 - q0 * lead.m;
     let t: [u32; 8] = lead.t[r0 as usize..r0 as usize + 8].try_into().unwrap();
     let (mut cell, mut tail) = (u32x8::new(t), u32x8::ZERO);
-    let mut push = |k: u32, d: u32x8| {
-        if k < base.cell_digits {
-            cell = cell * vb + d;
-        } else {
-            tail = tail * vb + d;
-        }
-    };
     let nd = nd.min(base.digits);
     let k0 = lead.k0;
     if B == 2 {
-        for k in k0..nd {
+        fold_digits::<B>(k0, nd, &mut cell, &mut tail, |k| {
             let prefix = idx & u32x8::splat((1u32 << k) - 1);
             let a = (idx >> k) & u32x8::ONE;
             let g = mix32x8(prefix ^ kd);
             let h =
                 ((g ^ (g >> 16)) ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL);
-            push(k, affine_digit_x8::<B>(a, h));
-        }
+            affine_digit_x8::<B>(a, h)
+        });
     } else {
         let (mut q, mut r) = (q0, r0);
-        for k in k0..nd {
+        fold_digits::<B>(k0, nd, &mut cell, &mut tail, |k| {
             let qn = q / B;
             let ak = q - qn * B;
             let pk = base.pow[k as usize];
@@ -506,18 +520,44 @@ fn coord_x8<const B: u32>(s0: u32, nd: u32, keys: &DimKeys, lead: &Lead) -> f32x
             let g = mix32x8(prefix ^ kd);
             let h =
                 ((g ^ (g >> 16)) ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL);
-            push(k, affine_digit_x8::<B>(a, h));
             r = r.wrapping_add(ak.wrapping_mul(pk));
             q = qn;
-        }
+            affine_digit_x8::<B>(a, h)
+        });
     }
     let g = mix32x8(idx ^ kd);
     let y = g ^ (g >> 16);
-    for k in nd.max(k0)..base.digits {
-        let h = (y ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL);
-        push(k, beta_x8::<B>(h));
-    }
+    fold_digits::<B>(nd.max(k0), base.digits, &mut cell, &mut tail, |k| {
+        beta_x8::<B>((y ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL))
+    });
     base.coordinate_x8(cell, tail)
+}
+
+/// Folds `digit(k)` for `k ∈ [lo, hi)` into the base-`B` accumulators: `cell`
+/// for `k < J_B`, `tail` after. Two loops rather than one with a per-digit
+/// choice, so that each accumulator stays in a register (a per-digit choice
+/// compiled to a store and reload of whichever one was chosen, a latency chain
+/// through memory on every digit).
+#[inline(always)]
+fn fold_digits<const B: u32>(
+    lo: u32,
+    hi: u32,
+    cell: &mut u32x8,
+    tail: &mut u32x8,
+    mut digit: impl FnMut(u32) -> u32x8,
+) {
+    let j = BaseOf::<B>::BASE.cell_digits;
+    let vb = u32x8::splat(B);
+    let mut c = *cell;
+    for k in lo..hi.min(j) {
+        c = c * vb + digit(k);
+    }
+    *cell = c;
+    let mut t = *tail;
+    for k in lo.max(j)..hi {
+        t = t * vb + digit(k);
+    }
+    *tail = t;
 }
 
 /// Number of base-`b` digits of `i` (0 for `i = 0`).
