@@ -10,6 +10,11 @@ use crate::rng::{Pcg32, Seed};
 const BRIDSON_PURPOSE: u64 = 0x504F_4953_534F_4E00;
 /// Seed purpose of maximal dart throwing.
 const DART_PURPOSE: u64 = 0x504F_4953_534F_4E01;
+/// Stream of the boxes darts are thrown into (separate from the dart
+/// positions, so that a batch of boxes can be drawn ahead).
+const PICK_PURPOSE: u64 = 0x504F_4953_534F_4E03;
+/// Boxes drawn ahead per batch in active-box dart throwing.
+const BATCH: usize = 32;
 /// Seed purpose of the random subset chosen by [`PoissonDisk::generate_n`].
 const SUBSET_PURPOSE: u64 = 0x504F_4953_534F_4E02;
 
@@ -508,16 +513,12 @@ impl<const D: usize> PoissonDisk<D> {
         let cap = self.list_cap();
         let list = &mut list[..(2 * cap).max(self.max_points)];
         match (self.method, stop) {
-            (_, Some(n)) => st.active_darts(&mut seed.pcg(DART_PURPOSE), &mut list[..2 * cap], n),
+            (_, Some(n)) => st.active_darts(seed, &mut list[..2 * cap], n),
             (PoissonMethod::Bridson, None) => {
                 st.bridson(&mut seed.pcg(BRIDSON_PURPOSE), list, self.candidates);
             }
             (PoissonMethod::MaximalDartThrowing, None) => {
-                st.active_darts(
-                    &mut seed.pcg(DART_PURPOSE),
-                    &mut list[..2 * cap],
-                    usize::MAX,
-                );
+                st.active_darts(seed, &mut list[..2 * cap], usize::MAX);
             }
         }
         Ok(st.n)
@@ -1068,6 +1069,27 @@ impl<const D: usize> State<'_, D> {
         })
     }
 
+    /// Reads the list entries of the boxes `picks` and, for live ones, their
+    /// cells' first grid word and coverage mask, so that the reads of a batch
+    /// of darts overlap (the values are discarded; `black_box` keeps the reads).
+    #[inline(always)]
+    fn touch(&self, list: &[u32], picks: &[u32; BATCH]) {
+        let mut acc = 0u32;
+        for &k in picks {
+            let cw = list[2 * k as usize];
+            if cw != DEAD {
+                let c = Self::unpack(cw);
+                let ci = self.index(&c);
+                let w = self.grid[D * ci];
+                acc ^= w;
+                if self.use_mask {
+                    acc ^= self.mask[2 * ci];
+                }
+            }
+        }
+        core::hint::black_box(acc);
+    }
+
     /// Active-box dart throwing (Ebeida et al. 2011, 2012), stopped after `stop`
     /// accepted points or when no active box is left (maximal).
     ///
@@ -1082,7 +1104,15 @@ impl<const D: usize> State<'_, D> {
     /// the level is refined (children known to be covered are dropped). At the
     /// last level a box that received a rejected dart is removed (the slack of
     /// [`PoissonDisk::coverage_slack`]).
-    fn active_darts(&mut self, rng: &mut Pcg32, list: &mut [u32], stop: usize) {
+    ///
+    /// Boxes come from their own stream (`PICK_PURPOSE`), locations from the
+    /// dart stream. Below the last level the number of boxes `a` is fixed, so
+    /// the boxes of `BATCH` darts are drawn at once and their memory read
+    /// ahead ([`State::touch`]); each dart still sees the state the darts
+    /// before it left, so the process is the same one, dart by dart.
+    fn active_darts(&mut self, seed: Seed, list: &mut [u32], stop: usize) {
+        let rng = &mut seed.pcg(DART_PURPOSE);
+        let pick = &mut seed.pcg(PICK_PURPOSE);
         let cells = self.p.cells;
         let cap = list.len() / 2;
         let stop = stop.min(self.p.max_points);
@@ -1116,9 +1146,30 @@ impl<const D: usize> State<'_, D> {
             // swap-removes instead.
             let mut dead = 0usize;
             let mut thrown = 0u64;
+            // Boxes are drawn BATCH at a time from their own stream (`a` is
+            // fixed below the last level), and the batch's list entries, cell
+            // words and masks are read before its first dart runs: the reads of
+            // one dart no longer wait for those of the one before. Each dart
+            // then reads them again (from cache), after the darts before it.
+            let mut picks = [0u32; BATCH];
+            let mut next = BATCH;
             while dead < a && thrown < budget && self.n < stop {
                 thrown += 1;
-                let k = below(rng, a as u32) as usize;
+                let k = if last {
+                    below(pick, a as u32) as usize
+                } else {
+                    if next == BATCH {
+                        for p in &mut picks {
+                            *p = below(pick, a as u32);
+                        }
+                        self.touch(list, &picks);
+                        next = 0;
+                    }
+                    next += 1;
+                    picks[next - 1] as usize
+                };
+                // Drawn for this level's `a` (a stale batch would not be).
+                debug_assert!(k < a, "box {k} of {a}");
                 let cw = list[2 * k];
                 if cw == DEAD {
                     continue;
@@ -1524,6 +1575,19 @@ impl<const D: usize> State<'_, D> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every random stream of the module has its own purpose: two equal
+    /// purposes would give two uses the same numbers (box picks equal to the
+    /// thinned subset's draws, say).
+    #[test]
+    fn stream_purposes_are_distinct() {
+        let p = [BRIDSON_PURPOSE, DART_PURPOSE, PICK_PURPOSE, SUBSET_PURPOSE];
+        for i in 0..p.len() {
+            for j in 0..i {
+                assert_ne!(p[i], p[j], "purposes {i} and {j}");
+            }
+        }
+    }
 
     /// The sorted neighbour list (fast path) and the generic odometer scan decide
     /// the same predicate, so they give the same points.
