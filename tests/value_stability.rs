@@ -61,6 +61,8 @@ fn pinned_pattern_hashes() {
         ("jittered2", fnv(&Jittered::<2>::new([25, 40]).unwrap())),
         ("jittered3", fnv(&Jittered::<3>::new([10, 10, 10]).unwrap())),
         ("nrooks3", fnv(&NRooks::<3>::new(1000).unwrap())),
+        // n > 2¹²: the six-round permutation regime.
+        ("nrooks2-large", fnv(&NRooks::<2>::new(10_000).unwrap())),
         ("mj", fnv(&MultiJittered::new(1000).unwrap())),
         ("cmj", fnv(&CorrelatedMultiJittered::new(1000).unwrap())),
         (
@@ -72,12 +74,13 @@ fn pinned_pattern_hashes() {
         ("pmj02", fnv(&Pmj02::new(1000).unwrap())),
         ("pmj02bn", fnv(&Pmj02::blue_noise(1000).unwrap())),
     ];
-    let want: [(&str, u64); 12] = [
+    let want: [(&str, u64); 13] = [
         ("random2", 0xb443c0f4d8aff1fe),
         ("random3", 0x388f764a6390dab2),
         ("jittered2", 0xa860f58dd289230b),
         ("jittered3", 0xc5b4bce7a41703d3),
         ("nrooks3", 0xe2e939b7e3ff11b5),
+        ("nrooks2-large", 0xdf9b9f36e788617e),
         ("mj", 0xd195b3fd5f49dfcd),
         ("cmj", 0xf16b9807447ff843),
         ("cmj-shifted", 0xd020d8fe7fcf4e7e),
