@@ -399,8 +399,8 @@ mod tests {
     #[test]
     fn each_element_is_uniform_over_keys() {
         // For a fixed i, permute(i, n, key) over 60000 keys: chi-square against the
-        // uniform distribution below its 99.99% quantile (df = n − 1; bound from the
-        // Wilson–Hilferty approximation, z = 3.72).
+        // uniform distribution below its 1 − 10⁻⁶ quantile (df = n − 1; bound from
+        // the Wilson–Hilferty approximation, z = 4.753; tests/README.md).
         for n in [2u32, 3, 5, 6, 7, 11, 53, 100] {
             for i in [0, 1, n - 1] {
                 let mut h = [0u32; 100];
@@ -415,7 +415,7 @@ mod tests {
                     .sum();
                 let df = f64::from(n - 1);
                 let q = df
-                    * (1.0 - 2.0 / (9.0 * df) + 3.72 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
+                    * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
                         .powi(3);
                 assert!(chi < q, "n {n} i {i}: chi2 {chi} ≥ {q}");
             }
@@ -425,8 +425,8 @@ mod tests {
     #[test]
     fn pairs_are_uniform_over_keys() {
         // (permute(i), permute(j)) over the keys is uniform over the n(n−1)
-        // ordered pairs of distinct values: chi-square below its 99.99%
-        // quantile. (0, 1) over 40000 keys; pairs that differ only in the top
+        // ordered pairs of distinct values: chi-square below its 1 − 10⁻⁶
+        // quantile (z = 4.753). (0, 1) over 40000 keys; pairs that differ only in the top
         // bit over 2·10⁶ keys, where eight rounds fail at 17 to 32 elements
         // (z = 13 at n = 17, 44 at n = 32; twelve rounds pass).
         let mut cases = [3u32, 5, 7, 11, 17, 31, 33, 53]
@@ -454,7 +454,7 @@ mod tests {
             }
             let df = f64::from(n * (n - 1) - 1);
             let q = df
-                * (1.0 - 2.0 / (9.0 * df) + 3.72 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
+                * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
                     .powi(3);
             assert!(chi < q, "n {n} ({i}, {j}): chi2 {chi} ≥ {q}");
         }
