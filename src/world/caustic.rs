@@ -579,12 +579,29 @@ impl<const D: usize> Caustic<D> {
             // Behind the light (the light is outside the ball).
             return path;
         }
-        path.segs[0].length = t_in;
         let c = ball.centre();
         let inv_r = 1.0 / ball.radius();
-        let normal = |p: &[f64; D]| normalise(core::array::from_fn(|j| (p[j] - c[j]) * inv_r));
+        // The unit normal at a computed surface point, or `None` when the
+        // point is not on the sphere to within a factor √2 of the radius: the
+        // scene's scale hides the ball from `f64` (a light 10³² away from a
+        // ball of radius 10⁻⁸ puts the "hit" point 10¹⁶ radii off it), and the
+        // photon cannot be traced through it. On resolvable scenes
+        // `|p − c|/r` is 1 to within the rounding of `p`.
+        let normal = |p: &[f64; D]| {
+            let v: [f64; D] = core::array::from_fn(|j| (p[j] - c[j]) * inv_r);
+            let s = dot(&v, &v);
+            if (0.5..=2.0).contains(&s) {
+                Some(normalise(v))
+            } else {
+                None
+            }
+        };
         let mut p = ray0.at(t_in);
-        let n1 = normal(&p);
+        let Some(n1) = normal(&p) else {
+            // Unresolvable: the photon passes the ball untouched.
+            return path;
+        };
+        path.segs[0].length = t_in;
         let cos1 = -dot(&n1, &dir);
         let eta_in = 1.0 / self.glass.ior;
         let (k_max, r1) = match self.fresnel {
@@ -621,7 +638,10 @@ impl<const D: usize> Caustic<D> {
                 _ => break,
             };
             p = inside.at(t_out);
-            let n2 = normal(&p);
+            let Some(n2) = normal(&p) else {
+                // Unresolvable exit point (see `normal`): stop, as above.
+                break;
+            };
             let inward: [f64; D] = core::array::from_fn(|j| -n2[j]);
             let cos2 = dot(&n2, &d);
             // The ball's symmetry: the ray leaves at the angle it entered
