@@ -380,6 +380,7 @@ impl PermuteX8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::stats::chi2_limit;
 
     #[test]
     fn is_a_bijection() {
@@ -414,9 +415,7 @@ mod tests {
                     .map(|&c| (f64::from(c) - e).powi(2) / e)
                     .sum();
                 let df = f64::from(n - 1);
-                let q = df
-                    * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
-                        .powi(3);
+                let q = chi2_limit(df);
                 assert!(chi < q, "n {n} i {i}: chi2 {chi} ≥ {q}");
             }
         }
@@ -453,9 +452,7 @@ mod tests {
                 }
             }
             let df = f64::from(n * (n - 1) - 1);
-            let q = df
-                * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
-                    .powi(3);
+            let q = chi2_limit(df);
             assert!(chi < q, "n {n} ({i}, {j}): chi2 {chi} ≥ {q}");
         }
     }
@@ -503,9 +500,7 @@ mod tests {
                     chi += (f64::from(v) - e).powi(2) / e;
                 }
                 let df = 255.0f64;
-                let q = df
-                    * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df)))
-                        .powi(3);
+                let q = chi2_limit(df);
                 assert!(chi < q, "n {n} ({i}, {j}): chi2 {chi} ≥ {q}");
             }
         }

@@ -189,6 +189,14 @@ impl RunningStats {
     }
 }
 
+/// Chi-square quantile for `df` degrees of freedom at false-alarm probability
+/// 10⁻⁶, the suite's rule for distribution checks (Wilson–Hilferty,
+/// `z = 4.753`; `tests/README.md`).
+#[cfg(test)]
+pub(crate) fn chi2_limit(df: f64) -> f64 {
+    df * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df))).powi(3)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -798,14 +798,8 @@ mod tests {
     extern crate std;
     use super::*;
     use crate::pattern::Pattern;
+    use crate::stats::chi2_limit;
     use std::{vec, vec::Vec};
-
-    /// Chi-square quantile for `df` degrees of freedom at false-alarm probability
-    /// 10⁻⁶, the suite's rule for distribution checks (Wilson–Hilferty,
-    /// `z = 4.753`).
-    fn chi2_limit(df: f64) -> f64 {
-        df * (1.0 - 2.0 / (9.0 * df) + 4.753 * crate::num::scalar::sqrt(2.0 / (9.0 * df))).powi(3)
-    }
 
     fn chi2(h: &[u32], e: f64) -> f64 {
         h.iter().map(|&c| (f64::from(c) - e).powi(2) / e).sum()

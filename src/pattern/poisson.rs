@@ -1165,8 +1165,9 @@ impl<const D: usize> State<'_, D> {
                         self.touch(list, &picks);
                         next = 0;
                     }
+                    let k = picks[next];
                     next += 1;
-                    picks[next - 1] as usize
+                    k as usize
                 };
                 // Drawn for this level's `a` (a stale batch would not be).
                 debug_assert!(k < a, "box {k} of {a}");
