@@ -5,14 +5,42 @@
 //!
 //! 1. a keyed bijection `P` of `[0, 2ᵇ)`, `b = ⌈log₂ n⌉`: a generalised Feistel
 //!    network on the split `x = (hi, lo)` (`⌈b/2⌉` and `⌊b/2⌋` bits) whose rounds
-//!    alternate `hi ⊕= F(lo, k_r)` and `lo ⊕= F(hi, k_r)` (twelve rounds for `b ≤ 5`, eight up to `b = 12`, six above) with the round function
-//!    `F = mix32(· ⊕ k_r)` (Luby & Rackoff 1988[^1]); each round is invertible;
+//!    alternate `hi ⊕= F_r(lo)` and `lo ⊕= F_r(hi)` (twelve rounds for `b ≤ 5`,
+//!    eight up to `b = 12`, six above; Luby & Rackoff 1988[^1]); each round is
+//!    invertible whatever `F_r` is;
 //! 2. *cycle walking* (Black & Rogaway 2002[^2]): `P` is re-applied until the value
 //!    falls in `[0, n)`, which restricts the bijection to `[0, n)`; since
 //!    `n > 2ᵇ⁻¹`, fewer than two steps are needed on average;
 //! 3. a keyed rotation `x ↦ (x + c) mod n` with `c` uniform in `[0, n)`, so that for
 //!    every `i` the value `permute(i, n, key)` is uniform over `[0, n)` when the key
 //!    is random: patterns built from these permutations stay unbiased.
+//!
+//! # Round function
+//!
+//! Round `r` writes `F_r(x) = ((a_r·x + b_r) mod 2³²) >> (32 − l)` into an
+//! `l`-bit half, with `a_r`, `b_r` two words of the key expansion. For inputs
+//! of `u` bits this *multiply-add-shift* family is strongly universal
+//! (pairwise independent) whenever `32 ≥ u + l − 1` (Dietzfelbinger 1996[^4];
+//! Thorup 2015[^5]), which holds for every half here (`u, l ≤ 16`): for
+//! `x ≠ x'` and uniform `a_r`, `b_r`, the pair `(F_r(x), F_r(x'))` is exactly
+//! uniform. (The test `multiply_add_shift_is_strongly_universal` checks the
+//! statement exhaustively on small word sizes, and that it fails one bit
+//! below the bound.)
+//!
+//! Why that is enough for sampling: two trajectories through the network query
+//! each round function at no more than two points, so if the round words were
+//! independent and uniform, the joint law of `(P(i), P(j))` over keys would
+//! be *exactly* that of the same network with truly random round functions
+//! (for a power-of-two domain; cycle walking re-uses a round function on more
+//! points). The variance of any estimator built from these permutations, and
+//! the expected periodogram of any pattern, are sums over pairs of points, so
+//! they would be those of the ideal network. Our round words are hashes of
+//! one 32-bit key, as before, so this is the model, and the tests measure the
+//! pair law of the real function against it, cycle-walking sizes included.
+//! The price is higher-order structure, which no variance formula sees; the
+//! gain is one multiply, one add and one shift per round, against two
+//! multiplies and six other operations for a full 32-bit mixer (the round
+//! function until 0.2.0).
 //!
 //! Domains of at most [`SMALL_DOMAIN`] elements, where a Feistel network reaches
 //! too few permutations, use an exact Fisher–Yates shuffle on the stack instead.
@@ -24,42 +52,39 @@
 //!   Pseudorandom Functions*, SIAM J. Comput. 17(2), 1988.
 //! [^2]: J. Black, P. Rogaway, *Ciphers with Arbitrary Finite Domains*, CT-RSA 2002.
 //! [^3]: A. Kensler, *Correlated Multi-Jittered Sampling*, Pixar Technical Memo 13-01 (2013).
+//! [^4]: M. Dietzfelbinger, *Universal hashing and k-wise independent random
+//!   variables via integer arithmetic without primes*, STACS 1996, LNCS 1046.
+//! [^5]: M. Thorup, *High Speed Hashing for Integers and Strings*, arXiv:1504.06804
+//!   (2015), section on multiply-add-shift.
 
 use crate::rng::{mix32, mix32x8};
 use wide::u32x8;
 
-/// Stored Feistel round keys (the rotation word follows them). Rounds past
-/// these (domains of 17 to 32 elements run twelve) use `k_{r−8} ⊕ c_r`, the
-/// stored key of round `r − 8` and the round constant of `r`.
-const ROUNDS: u32 = 8;
-
 /// Largest number of Feistel rounds, used for domains of 17 to 32 elements.
 const MAX_ROUNDS: usize = 12;
 
-/// Key of round `r` from the stored keys.
-#[inline(always)]
-const fn key_of_round(keys: &[u32; ROUNDS as usize], r: usize) -> u32 {
-    if r < ROUNDS as usize {
-        keys[r]
-    } else {
-        keys[r - ROUNDS as usize] ^ round_const(r as u32)
-    }
-}
+/// Words a key expands to: `a_r` (word `2r`) and `b_r` (word `2r + 1`) for
+/// each round, then the rotation word.
+pub(crate) const KEY_WORDS: usize = 2 * MAX_ROUNDS + 1;
+
+/// Index of the rotation word in a key expansion.
+pub(crate) const ROTATION: usize = 2 * MAX_ROUNDS;
 
 /// Feistel rounds for a `b`-bit domain: eight up to `b = 12` (halves of at
-/// most six bits, where each round mixes few bits), six above. Four rounds
-/// of a pseudo-random round function give a pseudo-random permutation only
+/// most six bits), six above, twelve for 17 to 32 elements. Four rounds of a
+/// random round function give a pseudo-random permutation only
 /// asymptotically (Luby & Rackoff 1988); with these halves they do not: for
 /// two indices that differ only in the top bit, `(0, n/2)` say, the pair
-/// `(permute(0), permute(n/2))` over keys departs from uniform (64 × 64 bins,
-/// 2·10⁶ keys: z = 248 at `n = 2¹³`, 18 at `2¹⁶`, 4.3 at `2¹⁸`). Six rounds
-/// showed no departure from `2¹³` to `2²⁴` (|z| ≤ 3.3 over 96 such tests),
-/// and `large_domain_pairs_are_uniform_over_keys` fails with four. Below
-/// `2¹³` six are not enough (z = 6.1 at `n = 64`), eight are down to 33
-/// elements; at 17 to 32 (halves of two and three bits) eight fail the same
-/// test (z = 13 at `n = 17`, 44 at `n = 32`, pair `(1, 17)`) and twelve pass,
-/// with the extra keys of [`key_of_round`] (|z| ≤ 1.9 from 17 to 32;
-/// `pairs_are_uniform_over_keys` fails with eight).
+/// `(permute(0), permute(n/2))` over keys departs from uniform (measured with
+/// a full 32-bit mixer as round function, which the pair law of the
+/// multiply-add-shift rounds equals: 64 × 64 bins, 2·10⁶ keys, z = 248 at
+/// `n = 2¹³`, 18 at `2¹⁶`, 4.3 at `2¹⁸`). Six rounds showed no departure
+/// from `2¹³` to `2²⁴` (|z| ≤ 3.3 over 96 such tests), and
+/// `large_domain_pairs_are_uniform_over_keys` fails with four. Below `2¹³` six
+/// are not enough (z = 6.1 at `n = 64`), eight are down to 33 elements; at 17
+/// to 32 (halves of two and three bits) eight fail the same test (z = 13 at
+/// `n = 17`, 44 at `n = 32`, pair `(1, 17)`) and twelve pass
+/// (`pairs_are_uniform_over_keys` fails with eight).
 #[inline(always)]
 const fn rounds(bits: u32) -> usize {
     if bits > 12 {
@@ -111,51 +136,107 @@ pub const fn domain_mask(n: u32) -> u32 {
     }
 }
 
-/// Words a key expands to: the Feistel round keys and the rotation word.
-pub(crate) const KEY_WORDS: usize = ROUNDS as usize + 1;
-
-/// The [`KEY_WORDS`] words of `key` (`round_key(key, r)`).
-#[inline]
-#[must_use]
-pub(crate) fn key_words(key: u32) -> [u32; KEY_WORDS] {
-    core::array::from_fn(|r| round_key(key, r as u32))
+/// The split of a domain `[0, n)`, `n > 16`, into Feistel halves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct Shape {
+    n: u32,
+    /// `2ᵇ − 1`.
+    mask: u32,
+    /// Bits of the low half, `⌊b/2⌋`.
+    lo_bits: u32,
+    /// `32 −` bits of the high half: the shift of a round that writes it.
+    hi_shift: u32,
+    /// `32 − lo_bits`.
+    lo_shift: u32,
+    /// Feistel rounds (even).
+    rounds: usize,
 }
 
-/// The constant that separates round `r` from the others.
+impl Shape {
+    /// The shape of `[0, n)`; only meaningful for `n > SMALL_DOMAIN`.
+    #[inline(always)]
+    pub(crate) const fn new(n: u32) -> Self {
+        let mask = domain_mask(n);
+        let bits = mask.count_ones();
+        let lo_bits = bits / 2;
+        Shape {
+            n,
+            mask,
+            lo_bits,
+            hi_shift: 32 - (bits - lo_bits),
+            lo_shift: 32 - lo_bits,
+            rounds: rounds(bits),
+        }
+    }
+
+    /// Key words this shape reads: `2·rounds` round words (the rotation word
+    /// is always read).
+    #[inline(always)]
+    pub(crate) const fn round_words(&self) -> usize {
+        2 * self.rounds
+    }
+}
+
+/// The words of `key` that a domain of `shape` reads (`round_key(key, w)`),
+/// zero elsewhere.
+#[inline]
+#[must_use]
+pub(crate) fn key_words(key: u32, shape: &Shape) -> [u32; KEY_WORDS] {
+    let used = shape.round_words();
+    core::array::from_fn(|w| {
+        if w < used || w == ROTATION {
+            round_key(key, w as u32)
+        } else {
+            0
+        }
+    })
+}
+
+/// Word `w` of the key expansions of eight lane keys ([`key_words`]).
+#[inline(always)]
+#[must_use]
+pub(crate) fn key_word_x8(key: u32x8, w: usize) -> u32x8 {
+    mix32x8(key ^ u32x8::splat(round_const(w as u32)))
+}
+
+/// The rotations `c = ⌊w·n/2³²⌋ ∈ [0, n)` of eight lane keys, `w` their
+/// rotation word: what the vector paths keep at [`ROTATION`] in place of `w`.
+#[inline(always)]
+#[must_use]
+pub(crate) fn rotation_x8(key: u32x8, n: u32) -> u32x8 {
+    key_word_x8(key, ROTATION).mul_keep_high(u32x8::splat(n))
+}
+
+/// The constant that separates word `r` of a key expansion from the others.
 #[inline(always)]
 const fn round_const(r: u32) -> u32 {
     r.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15)
 }
 
-/// Round keys and rotation of one permutation.
+/// Word `r` of a key expansion.
 #[inline(always)]
 const fn round_key(key: u32, r: u32) -> u32 {
     mix32(key ^ round_const(r))
 }
 
+/// The multiply-add-shift round function `((a·x + b) mod 2³²) >> shift`.
+#[inline(always)]
+const fn round_fn(x: u32, a: u32, b: u32, shift: u32) -> u32 {
+    a.wrapping_mul(x).wrapping_add(b) >> shift
+}
+
 /// The keyed bijection `P` of `[0, 2ᵇ)` (lo = low `lo_bits` bits).
 #[inline(always)]
-const fn feistel(
-    x: u32,
-    keys: &[u32; ROUNDS as usize],
-    lo_bits: u32,
-    hi_mask: u32,
-    lo_mask: u32,
-) -> u32 {
-    let mut hi = x >> lo_bits;
-    let mut lo = x & lo_mask;
-    let rounds = rounds(lo_bits + (32 - hi_mask.leading_zeros()));
+const fn feistel(x: u32, keys: &[u32; KEY_WORDS], s: &Shape) -> u32 {
+    let mut hi = x >> s.lo_bits;
+    let mut lo = x & ((1 << s.lo_bits) - 1);
     let mut r = 0;
-    while r < rounds {
-        let k = key_of_round(keys, r);
-        if r % 2 == 0 {
-            hi ^= mix32(lo ^ k) & hi_mask;
-        } else {
-            lo ^= mix32(hi ^ k) & lo_mask;
-        }
-        r += 1;
+    while r < s.rounds {
+        hi ^= round_fn(lo, keys[2 * r], keys[2 * r + 1], s.hi_shift);
+        lo ^= round_fn(hi, keys[2 * r + 2], keys[2 * r + 3], s.lo_shift);
+        r += 2;
     }
-    (hi << lo_bits) | lo
+    (hi << s.lo_bits) | lo
 }
 
 /// Element `i` of the random permutation of `[0, n)` selected by `key`.
@@ -174,25 +255,16 @@ pub fn permute(i: u32, n: u32, key: u32) -> u32 {
     if n <= SMALL_DOMAIN {
         return permute_small(i, n, key);
     }
-    let mask = domain_mask(n);
-    let bits = mask.count_ones();
-    let lo_bits = bits / 2;
-    let lo_mask = (1u32 << lo_bits) - 1;
-    let hi_mask = mask >> lo_bits;
-    let mut keys = [0u32; ROUNDS as usize];
-    let mut r = 0;
-    while r < ROUNDS as usize {
-        keys[r] = round_key(key, r as u32);
-        r += 1;
-    }
-    let mut x = i & mask;
+    let s = Shape::new(n);
+    let keys = key_words(key, &s);
+    let mut x = i;
     loop {
-        x = feistel(x, &keys, lo_bits, hi_mask, lo_mask);
+        x = feistel(x, &keys, &s);
         if x < n {
             break;
         }
     }
-    let c = ((u64::from(round_key(key, ROUNDS)) * u64::from(n)) >> 32) as u32;
+    let c = ((u64::from(keys[ROTATION]) * u64::from(n)) >> 32) as u32;
     let y = x + c;
     if y >= n {
         y - n
@@ -209,25 +281,21 @@ pub fn permute_x8(i: u32x8, n: u32, key: u32x8) -> u32x8 {
     PermuteX8::new(n, key).apply(i)
 }
 
-/// Eight permutations of `[0, n)` (one key per lane) with their round keys and
+/// Eight permutations of `[0, n)` (one key per lane) with their key words and
 /// rotation computed once: [`PermuteX8::apply`] is [`permute_x8`] without the
-/// nine key hashes, and [`PermuteX8::apply4`] evaluates four independent
-/// vectors in lock step.
+/// key hashes, and [`PermuteX8::apply4`] evaluates four independent vectors in
+/// lock step.
 ///
-/// The Feistel rounds form a dependency chain of up to twelve [`mix32`] evaluations
-/// (about 100 cycles of latency per vector); interleaving four independent
-/// chains lets the CPU overlap them, which is what makes N-rooks and
-/// (correlated) multi-jittered generation throughput-bound rather than
-/// latency-bound. The values are those of [`permute`], lane by lane.
+/// The Feistel rounds form a dependency chain (a multiply, an add, a shift and
+/// an exclusive or per round); interleaving four independent chains lets the
+/// CPU overlap them, which is what makes N-rooks and (correlated)
+/// multi-jittered generation throughput-bound rather than latency-bound. The
+/// values are those of [`permute`], lane by lane.
 #[derive(Clone, Copy, Debug)]
 pub struct PermuteX8 {
-    n: u32,
     key: u32x8,
-    keys: [u32x8; ROUNDS as usize],
-    rotation: u32x8,
-    mask: u32,
-    lo_bits: u32,
-    rounds: usize,
+    shape: Shape,
+    words: [u32x8; KEY_WORDS],
 }
 
 impl PermuteX8 {
@@ -235,44 +303,33 @@ impl PermuteX8 {
     #[inline(always)]
     #[must_use]
     pub fn new(n: u32, key: u32x8) -> Self {
-        let words = if n > SMALL_DOMAIN {
-            core::array::from_fn(|r| mix32x8(key ^ u32x8::splat(round_const(r as u32))))
-        } else {
-            [u32x8::ZERO; KEY_WORDS]
+        let mut p = PermuteX8 {
+            key,
+            shape: Shape::new(n),
+            words: [u32x8::ZERO; KEY_WORDS],
         };
-        Self::from_words(n, key, &words)
+        p.set_key(key);
+        p
     }
 
-    /// As [`PermuteX8::new`], with each lane's [`key_words`] given (word `r`
-    /// of lane `l` in `words[r]`), for callers that tabulate them once per key.
+    /// The same domain with lane keys `key`, in place (no copy of the key
+    /// words, for callers that change keys often).
     #[inline(always)]
-    #[must_use]
-    pub(crate) fn from_words(n: u32, key: u32x8, words: &[u32x8; KEY_WORDS]) -> Self {
-        let mask = domain_mask(n);
-        let big = n > SMALL_DOMAIN;
-        PermuteX8 {
-            n,
-            key,
-            keys: if big {
-                core::array::from_fn(|r| words[r])
-            } else {
-                [u32x8::ZERO; ROUNDS as usize]
-            },
-            rotation: if big {
-                words[ROUNDS as usize].mul_keep_high(u32x8::splat(n))
-            } else {
-                u32x8::ZERO
-            },
-            mask,
-            lo_bits: mask.count_ones() / 2,
-            rounds: rounds(mask.count_ones()),
+    pub(crate) fn set_key(&mut self, key: u32x8) {
+        self.key = key;
+        if self.shape.n > SMALL_DOMAIN {
+            let used = self.shape.round_words();
+            for (w, word) in self.words.iter_mut().enumerate().take(used) {
+                *word = key_word_x8(key, w);
+            }
+            self.words[ROTATION] = rotation_x8(key, self.shape.n);
         }
     }
 
     /// Exact Fisher–Yates tables for `n ≤ 16` (see [`permute`]).
     #[cold]
     fn small(&self, i: u32x8) -> u32x8 {
-        let n = self.n;
+        let n = self.shape.n;
         let (ia, ka) = (i.to_array(), self.key.to_array());
         if ka.iter().all(|&k| k == ka[0]) {
             // One key for all lanes (e.g. correlated multi-jitter): one table.
@@ -282,58 +339,22 @@ impl PermuteX8 {
         u32x8::new(core::array::from_fn(|l| permute_small(ia[l] % n, n, ka[l])))
     }
 
-    /// Lane-wise key of round `r` ([`key_of_round`]).
-    #[inline(always)]
-    fn key_of_round(&self, r: usize) -> u32x8 {
-        if r < ROUNDS as usize {
-            self.keys[r]
-        } else {
-            self.keys[r - ROUNDS as usize] ^ u32x8::splat(round_const(r as u32))
-        }
-    }
-
-    /// The keyed bijection `P` of `[0, 2ᵇ)` on one vector.
-    #[inline(always)]
-    fn feistel(&self, x: u32x8) -> u32x8 {
-        let lo_mask = u32x8::splat((1u32 << self.lo_bits) - 1);
-        let hi_mask = u32x8::splat(self.mask >> self.lo_bits);
-        let mut hi = x >> self.lo_bits;
-        let mut lo = x & lo_mask;
-        for r in (0..self.rounds).step_by(2) {
-            hi ^= mix32x8(lo ^ self.key_of_round(r)) & hi_mask;
-            lo ^= mix32x8(hi ^ self.key_of_round(r + 1)) & lo_mask;
-        }
-        (hi << self.lo_bits) | lo
-    }
-
-    /// Cycle walking of the lanes still outside `[0, n)`, then the rotation.
-    #[inline(always)]
-    fn finish(&self, mut x: u32x8) -> u32x8 {
-        let vn = u32x8::splat(self.n);
-        let mut pending = x.simd_ge(vn);
-        while pending.any() {
-            let y = self.feistel(x);
-            x = pending.select(y, x);
-            pending &= x.simd_ge(vn);
-        }
-        let y = x + self.rotation;
-        let over = y.simd_ge(vn);
-        y - (over & vn)
-    }
-
     /// `permute(i_l, n, key_l)` in lane `l`. Every lane must be below `n`: the
     /// vector path does not reduce, and a cycle walk that starts outside
     /// `[0, n)` may never end.
     #[inline(always)]
     #[must_use]
     pub fn apply(&self, i: u32x8) -> u32x8 {
-        if self.n <= 1 {
+        let n = self.shape.n;
+        if n <= 1 {
             return u32x8::ZERO;
         }
-        if self.n <= SMALL_DOMAIN {
+        if n <= SMALL_DOMAIN {
             return self.small(i);
         }
-        self.finish(self.feistel(i & u32x8::splat(self.mask)))
+        let word = |w: usize| self.words[w];
+        let x = i & u32x8::splat(self.shape.mask);
+        finish(&self.shape, feistel_x8(&self.shape, x, word), word)
     }
 
     /// Four vectors through four permutation sets sharing `n`: element `v` is
@@ -345,42 +366,121 @@ impl PermuteX8 {
     #[inline(always)]
     #[must_use]
     pub fn apply4(perms: [&PermuteX8; 4], i: [u32x8; 4]) -> [u32x8; 4] {
-        let p0 = perms[0];
-        debug_assert!(perms.iter().all(|p| p.n == p0.n));
-        if p0.n <= SMALL_DOMAIN {
+        let s = perms[0].shape;
+        debug_assert!(perms.iter().all(|p| p.shape == s));
+        if s.n <= SMALL_DOMAIN {
             return core::array::from_fn(|v| perms[v].apply(i[v]));
         }
-        let lo_mask = u32x8::splat((1u32 << p0.lo_bits) - 1);
-        let hi_mask = u32x8::splat(p0.mask >> p0.lo_bits);
-        let mask = u32x8::splat(p0.mask);
-        // Plain loops over fixed-size arrays (not `array::from_fn`, whose
-        // closures the compiler does not always inline here).
-        let mut hi = [u32x8::ZERO; 4];
-        let mut lo = [u32x8::ZERO; 4];
-        for v in 0..4 {
-            hi[v] = (i[v] & mask) >> p0.lo_bits;
-            lo[v] = i[v] & lo_mask;
-        }
-        for r in (0..p0.rounds).step_by(2) {
-            for v in 0..4 {
-                hi[v] ^= mix32x8(lo[v] ^ perms[v].key_of_round(r)) & hi_mask;
-            }
-            for v in 0..4 {
-                lo[v] ^= mix32x8(hi[v] ^ perms[v].key_of_round(r + 1)) & lo_mask;
-            }
-        }
-        let mut out = [u32x8::ZERO; 4];
-        for v in 0..4 {
-            out[v] = perms[v].finish((hi[v] << p0.lo_bits) | lo[v]);
-        }
-        out
+        apply4_with(&s, i, |v, w| perms[v].words[w])
     }
+}
+
+/// The keyed bijection `P` on one vector, with word `w` of the lane keys from
+/// `word(w)`.
+#[inline(always)]
+fn feistel_x8(s: &Shape, x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
+    let mut hi = x >> s.lo_bits;
+    let mut lo = x & u32x8::splat((1 << s.lo_bits) - 1);
+    for r in (0..s.rounds).step_by(2) {
+        hi ^= (word(2 * r) * lo + word(2 * r + 1)) >> s.hi_shift;
+        lo ^= (word(2 * r + 2) * hi + word(2 * r + 3)) >> s.lo_shift;
+    }
+    (hi << s.lo_bits) | lo
+}
+
+/// Cycle walking of the lanes still outside `[0, n)`, then the rotation
+/// `word(ROTATION)` (already reduced to `[0, n)`, [`rotation_x8`]).
+#[inline(always)]
+fn finish(s: &Shape, mut x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
+    let vn = u32x8::splat(s.n);
+    let mut pending = x.simd_ge(vn);
+    while pending.any() {
+        let y = feistel_x8(s, x, &word);
+        x = pending.select(y, x);
+        pending &= x.simd_ge(vn);
+    }
+    let y = x + word(ROTATION);
+    let over = y.simd_ge(vn);
+    y - (over & vn)
+}
+
+/// Four vectors through permutations of a domain of shape `s` (`n > 16`),
+/// element `v` with the lane key words `word(v, w)` (and at [`ROTATION`] the
+/// rotation of [`rotation_x8`], not its raw word): the Feistel rounds of
+/// the four run interleaved, then each finishes. Every lane must be below
+/// `n`. For callers that keep key words in their own tables (multi-jitter's
+/// per-column keys); values as [`permute`] with those keys.
+#[inline(always)]
+pub(crate) fn apply4_with(
+    s: &Shape,
+    i: [u32x8; 4],
+    word: impl Fn(usize, usize) -> u32x8,
+) -> [u32x8; 4] {
+    let lo_mask = u32x8::splat((1 << s.lo_bits) - 1);
+    // Plain loops over fixed-size arrays (not `array::from_fn`, whose
+    // closures the compiler does not always inline here).
+    let mut hi = [u32x8::ZERO; 4];
+    let mut lo = [u32x8::ZERO; 4];
+    let mask = u32x8::splat(s.mask);
+    for v in 0..4 {
+        hi[v] = (i[v] & mask) >> s.lo_bits;
+        lo[v] = i[v] & lo_mask;
+    }
+    for r in (0..s.rounds).step_by(2) {
+        for v in 0..4 {
+            hi[v] ^= (word(v, 2 * r) * lo[v] + word(v, 2 * r + 1)) >> s.hi_shift;
+        }
+        for v in 0..4 {
+            lo[v] ^= (word(v, 2 * r + 2) * hi[v] + word(v, 2 * r + 3)) >> s.lo_shift;
+        }
+    }
+    let mut out = [u32x8::ZERO; 4];
+    for v in 0..4 {
+        out[v] = finish(s, (hi[v] << s.lo_bits) | lo[v], |w| word(v, w));
+    }
+    out
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::stats::chi2_limit;
+
+    #[test]
+    fn multiply_add_shift_is_strongly_universal() {
+        // The round function on W-bit words, through `round_fn` itself: with
+        // a, b scaled by 2^(32−W), ((a·x + b) mod 2^W) >> (W − l) is
+        // round_fn(x, a·2^(32−W), b·2^(32−W), 32 − l). Over all a, b < 2^W
+        // and every pair x < x' < 2^u, each output pair must occur exactly
+        // 2^(2W − 2l) times when W ≥ u + l − 1, and not when W = u + l − 2.
+        let pair_counts_exact = |w: u32, u: u32, l: u32| {
+            let scale = 32 - w;
+            for x in 0..1u32 << u {
+                for x2 in x + 1..1u32 << u {
+                    let mut h = [0u32; 1 << 10];
+                    for a in 0..1u32 << w {
+                        for b in 0..1u32 << w {
+                            let f = |x: u32| round_fn(x, a << scale, b << scale, 32 - l);
+                            h[((f(x) << l) | f(x2)) as usize] += 1;
+                        }
+                    }
+                    if h[..1 << (2 * l)].iter().any(|&c| c != 1 << (2 * w - 2 * l)) {
+                        return false;
+                    }
+                }
+            }
+            true
+        };
+        for (w, u, l) in [(7, 4, 4), (6, 3, 4), (6, 4, 3), (8, 5, 4), (5, 3, 3)] {
+            assert!(pair_counts_exact(w, u, l), "W {w}, u {u}, l {l}");
+        }
+        for (w, u, l) in [(6, 4, 4), (4, 3, 3), (7, 5, 4)] {
+            assert!(
+                !pair_counts_exact(w, u, l),
+                "W {w}, u {u}, l {l} below the bound"
+            );
+        }
+    }
 
     #[test]
     fn is_a_bijection() {

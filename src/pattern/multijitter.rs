@@ -24,7 +24,10 @@
 use super::sealed::{Generate, Sink};
 use super::{check_n, Strata, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{key_words, permute, PermuteX8, KEY_WORDS, SMALL_DOMAIN};
+use crate::hash::{
+    apply4_with, key_word_x8, permute, rotation_x8, PermuteX8, Shape, KEY_WORDS, ROTATION,
+    SMALL_DOMAIN,
+};
 use crate::rng::{Counter, Seed};
 use wide::u32x8;
 
@@ -112,10 +115,13 @@ impl Grid {
         let axis = Strata::new(self.cols * self.rows);
         let by_row = PermuteX8::new(self.rows, u32x8::splat(kx));
         let by_col = PermuteX8::new(self.cols, u32x8::splat(ky));
+        // π_y of the current row (multi-jitter), re-keyed in place.
+        let mut own = by_col;
         let end = first + len;
         let (j0, j1) = (first / m, (end - 1) / m + 1);
         let (mut tx, mut ty) = ([0u32; TILE], [0u32; TILE]);
         let mut words = [[0u32; MJ_TILE]; KEY_WORDS];
+        let row_shape = Shape::new(self.rows);
         let col_tile = if correlated { TILE } else { MJ_TILE };
         let (vn, vstep, vkx) = (
             u32x8::splat(self.rows),
@@ -143,12 +149,17 @@ impl Grid {
                 if correlated {
                     tabulate(&by_col, self.cols, c0, cc, &mut ty);
                 } else if self.rows > SMALL_DOMAIN {
-                    for t in 0..cc {
-                        let w =
-                            key_words(kx.wrapping_add((c0 as u32 + t as u32).wrapping_mul(step)));
-                        for (r, wr) in words.iter_mut().enumerate() {
-                            wr[t] = w[r];
+                    // Eight columns at a time; columns past `cc` (up to
+                    // MJ_TILE) get keys too and are never read in range.
+                    for t in (0..cc).step_by(8) {
+                        let col = u32x8::splat(c0 as u32 + t as u32) + lane;
+                        let keys = vkx + col * vstep;
+                        for w in 0..row_shape.round_words() {
+                            let word = key_word_x8(keys, w).to_array();
+                            words[w][t..t + 8].copy_from_slice(&word);
                         }
+                        let c = rotation_x8(keys, self.rows).to_array();
+                        words[ROTATION][t..t + 8].copy_from_slice(&c);
                     }
                 }
                 for j in r0..r0 + rc as u64 {
@@ -167,12 +178,11 @@ impl Grid {
                     let vj = u32x8::splat(j as u32);
                     // π_y with this row's key (k_y itself for CMJ: by_col).
                     let row_perm = if correlated {
-                        by_col
+                        &by_col
                     } else {
-                        PermuteX8::new(
-                            self.cols,
-                            u32x8::splat(ky.wrapping_add((j as u32).wrapping_mul(step))),
-                        )
+                        let key = ky.wrapping_add((j as u32).wrapping_mul(step));
+                        own.set_key(u32x8::splat(key));
+                        &own
                     };
                     let mut vi = u32x8::splat(lo as u32) + lane;
                     // Groups of four blocks: four independent permutation
@@ -192,37 +202,37 @@ impl Grid {
                                 }),
                             )
                         } else {
-                            let perm = |v: usize| {
+                            // π_x: per-lane column keys from the table.
+                            let col_word = |v: usize, w: usize| {
                                 let t = (t0 + 8 * (b + v)).min(MJ_TILE - 8);
-                                let mut w = [u32x8::ZERO; KEY_WORDS];
-                                for r in 0..KEY_WORDS {
-                                    let a: [u32; 8] =
-                                        words[r][t..t + 8].try_into().unwrap_or([0; 8]);
-                                    w[r] = u32x8::new(a);
+                                match words[w][t..].first_chunk::<8>() {
+                                    Some(a) => u32x8::new(*a),
+                                    None => u32x8::ZERO,
                                 }
-                                PermuteX8::from_words(self.rows, vkx + vis[v] * vstep, &w)
                             };
-                            let perms = [perm(0), perm(1), perm(2), perm(3)];
-                            if g == 4 {
-                                (
-                                    PermuteX8::apply4(
-                                        [&perms[0], &perms[1], &perms[2], &perms[3]],
-                                        [vj; 4],
-                                    ),
-                                    PermuteX8::apply4([&row_perm; 4], vis),
-                                )
+                            // π_x's input is the row index, valid in every
+                            // lane, so all four vectors run even when fewer are
+                            // in range.
+                            let px: [u32x8; 4] = if self.rows > SMALL_DOMAIN {
+                                apply4_with(&row_shape, [vj; 4], col_word)
                             } else {
-                                // Only the g blocks in range: lanes past the row's
-                                // end are outside [0, m), where a cycle walk
-                                // need not end.
-                                let mut px = [u32x8::ZERO; 4];
+                                core::array::from_fn(|v| {
+                                    PermuteX8::new(self.rows, vkx + vis[v] * vstep).apply(vj)
+                                })
+                            };
+                            // Only the g blocks in range for π_y: lanes past the
+                            // row's end are outside [0, m), where a cycle walk
+                            // need not end.
+                            let py = if g == 4 {
+                                PermuteX8::apply4([row_perm; 4], vis)
+                            } else {
                                 let mut py = [u32x8::ZERO; 4];
                                 for v in 0..g {
-                                    px[v] = perms[v].apply(vj);
                                     py[v] = row_perm.apply(vis[v]);
                                 }
-                                (px, py)
-                            }
+                                py
+                            };
+                            (px, py)
                         };
                         for v in 0..g {
                             let x = axis.point_x8(vis[v] * vn + px[v], bx.next_u32x8());
@@ -280,7 +290,7 @@ impl Grid {
 /// stack tables of 1 KiB).
 const TILE: usize = 256;
 
-/// Columns per key-word table of multi-jitter (`KEY_WORDS·64` words, 2.3 KiB).
+/// Columns per key-word table of multi-jitter (`KEY_WORDS·64` words, 6.4 KiB).
 const MJ_TILE: usize = 64;
 
 /// `t[v] = π(start + v)` for `v < count` (`count ≤ TILE`), 32 at a time. The
