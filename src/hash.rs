@@ -25,7 +25,11 @@
 //! `x ≠ x'` and uniform `a_r`, `b_r`, the pair `(F_r(x), F_r(x'))` is exactly
 //! uniform. (The test `multiply_add_shift_is_strongly_universal` checks the
 //! statement exhaustively on small word sizes, and that it fails one bit
-//! below the bound.)
+//! below the bound.) For domains of at most `2¹⁶` elements the round words
+//! keep only their top 16 bits (`Shape::word_mask`), so a round is exact
+//! 16-bit arithmetic, `((a'·x + b') mod 2¹⁶) >> (16 − l)`, strongly universal
+//! since `16 ≥ u + l − 1` for halves of at most eight bits, and the pattern
+//! generators run it in sixteen 16-bit lanes (`apply16`).
 //!
 //! Why that is enough for sampling: two trajectories through the network query
 //! each round function at no more than two points, so if the round words were
@@ -37,10 +41,12 @@
 //! they would be those of the ideal network. Our round words are hashes of
 //! one 32-bit key, as before, so this is the model, and the tests measure the
 //! pair law of the real function against it, cycle-walking sizes included.
-//! The price is higher-order structure, which no variance formula sees; the
-//! gain is one multiply, one add and one shift per round, against two
-//! multiplies and six other operations for a full 32-bit mixer (the round
-//! function until 0.2.0).
+//! The price is higher-order structure, which no variance formula sees (a
+//! study of single realisations, `examples/permutation_realizations.rs`,
+//! finds N-rooks, MJ and CMJ periodograms indistinguishable from those
+//! built on exact Fisher–Yates shuffles); the gain is one multiply, one add
+//! and one shift per round, against two multiplies and six other operations
+//! for a full 32-bit mixer (the round function of earlier versions).
 //!
 //! Domains of at most [`SMALL_DOMAIN`] elements, where a Feistel network reaches
 //! too few permutations, use an exact Fisher–Yates shuffle on the stack instead.
@@ -58,7 +64,7 @@
 //!   (2015), section on multiply-add-shift.
 
 use crate::rng::{mix32, mix32x8};
-use wide::u32x8;
+use wide::{u16x16, u16x8, u32x8};
 
 /// Largest number of Feistel rounds, used for domains of 17 to 32 elements.
 const MAX_ROUNDS: usize = 12;
@@ -169,22 +175,53 @@ impl Shape {
         }
     }
 
+    /// The domain size `n`.
+    #[inline(always)]
+    pub(crate) const fn n(&self) -> u32 {
+        self.n
+    }
+
     /// Key words this shape reads: `2·rounds` round words (the rotation word
     /// is always read).
     #[inline(always)]
     pub(crate) const fn round_words(&self) -> usize {
         2 * self.rounds
     }
+
+    /// A domain of at most `2¹⁶` elements (halves of at most eight bits).
+    /// Its round words keep only their top 16 bits ([`Shape::word_mask`]),
+    /// so each round is exact 16-bit arithmetic and runs in sixteen 16-bit
+    /// lanes ([`apply16`]).
+    #[inline(always)]
+    pub(crate) const fn narrow(&self) -> bool {
+        self.mask <= 0xFFFF
+    }
+
+    /// The mask applied to round words (not the rotation word): the top 16
+    /// bits for narrow domains, where `((a·x + b) mod 2³²) >> (32 − l)` with
+    /// the low halves of `a`, `b` zero is `((a'·x + b') mod 2¹⁶) >> (16 − l)`
+    /// with `a' = a >> 16`, `b' = b >> 16`: still strongly universal, since
+    /// `16 ≥ u + l − 1` for halves of at most eight bits.
+    #[inline(always)]
+    pub(crate) const fn word_mask(&self) -> u32 {
+        if self.narrow() {
+            0xFFFF_0000
+        } else {
+            u32::MAX
+        }
+    }
 }
 
-/// The words of `key` that a domain of `shape` reads (`round_key(key, w)`),
-/// zero elsewhere.
+/// The words of `key` that a domain of `shape` reads (`round_key(key, w)`,
+/// round words masked by [`Shape::word_mask`]), zero elsewhere.
 #[inline]
 #[must_use]
 pub(crate) fn key_words(key: u32, shape: &Shape) -> [u32; KEY_WORDS] {
     let used = shape.round_words();
     core::array::from_fn(|w| {
-        if w < used || w == ROTATION {
+        if w < used {
+            round_key(key, w as u32) & shape.word_mask()
+        } else if w == ROTATION {
             round_key(key, w as u32)
         } else {
             0
@@ -192,10 +229,17 @@ pub(crate) fn key_words(key: u32, shape: &Shape) -> [u32; KEY_WORDS] {
     })
 }
 
-/// Word `w` of the key expansions of eight lane keys ([`key_words`]).
+/// Round word `w < 2·rounds` of the key expansions of eight lane keys for
+/// a domain of shape `s` ([`key_words`]).
 #[inline(always)]
 #[must_use]
-pub(crate) fn key_word_x8(key: u32x8, w: usize) -> u32x8 {
+pub(crate) fn key_word_x8(key: u32x8, w: usize, s: &Shape) -> u32x8 {
+    raw_word_x8(key, w) & u32x8::splat(s.word_mask())
+}
+
+/// Word `w` of the key expansions of eight lane keys, unmasked.
+#[inline(always)]
+fn raw_word_x8(key: u32x8, w: usize) -> u32x8 {
     mix32x8(key ^ u32x8::splat(round_const(w as u32)))
 }
 
@@ -204,7 +248,7 @@ pub(crate) fn key_word_x8(key: u32x8, w: usize) -> u32x8 {
 #[inline(always)]
 #[must_use]
 pub(crate) fn rotation_x8(key: u32x8, n: u32) -> u32x8 {
-    key_word_x8(key, ROTATION).mul_keep_high(u32x8::splat(n))
+    raw_word_x8(key, ROTATION).mul_keep_high(u32x8::splat(n))
 }
 
 /// The constant that separates word `r` of a key expansion from the others.
@@ -320,7 +364,7 @@ impl PermuteX8 {
         if self.shape.n > SMALL_DOMAIN {
             let used = self.shape.round_words();
             for (w, word) in self.words.iter_mut().enumerate().take(used) {
-                *word = key_word_x8(key, w);
+                *word = key_word_x8(key, w, &self.shape);
             }
             self.words[ROTATION] = rotation_x8(key, self.shape.n);
         }
@@ -439,6 +483,131 @@ pub(crate) fn apply4_with(
         out[v] = finish(s, (hi[v] << s.lo_bits) | lo[v], |w| word(v, w));
     }
     out
+}
+
+/// The key words of sixteen permutations of a narrow domain
+/// (`16 < n ≤ 2¹⁶`, [`Shape::narrow`]), one key per 16-bit lane, as
+/// [`apply16`] reads them ([`PermuteX16::word`]): twice the lanes of
+/// [`PermuteX8`] per instruction, and a native multiply in SSE2 builds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PermuteX16 {
+    words: [u16x16; KEY_WORDS],
+}
+
+impl PermuteX16 {
+    /// Lanes 0–7 with the keys of `lo`, lanes 8–15 with those of `hi`.
+    ///
+    /// # Panics
+    /// Debug builds assert that the domain is narrow and above 16 elements.
+    #[inline]
+    #[must_use]
+    pub(crate) fn new(n: u32, lo: u32x8, hi: u32x8) -> Self {
+        let shape = Shape::new(n);
+        debug_assert!(shape.narrow() && n > SMALL_DOMAIN);
+        let mut words = [u16x16::ZERO; KEY_WORDS];
+        for (w, word) in words.iter_mut().enumerate().take(shape.round_words()) {
+            *word = top_halves(raw_word_x8(lo, w), raw_word_x8(hi, w));
+        }
+        words[ROTATION] = rotation_x16(&shape, rotation_x8(lo, n), rotation_x8(hi, n));
+        PermuteX16 { words }
+    }
+
+    /// Key word `w` of the lanes, as [`apply16`] takes it.
+    #[inline(always)]
+    pub(crate) fn word(&self, w: usize) -> u16x16 {
+        self.words[w]
+    }
+}
+
+/// Lanes 0–7 the top 16 bits of `lo`, lanes 8–15 those of `hi`.
+#[inline(always)]
+fn top_halves(lo: u32x8, hi: u32x8) -> u16x16 {
+    let (a, b) = ((lo >> 16u32).to_array(), (hi >> 16u32).to_array());
+    u16x16::new(core::array::from_fn(|l| {
+        (if l < 8 { a[l] } else { b[l - 8] }) as u16
+    }))
+}
+
+/// The 16-bit rotation word of [`apply16`]: `d = (n − c) mod 2¹⁶` from the
+/// rotations `c` ([`rotation_x8`]) of lanes 0–7 (`lo`) and 8–15 (`hi`).
+#[inline(always)]
+pub(crate) fn rotation_x16(s: &Shape, lo: u32x8, hi: u32x8) -> u16x16 {
+    let n = u32x8::splat(s.n);
+    top_halves((n - lo) << 16u32, (n - hi) << 16u32)
+}
+
+/// The two halves of a vector of sixteen 16-bit lanes, zero-extended.
+#[inline(always)]
+#[must_use]
+pub(crate) fn widen(x: u16x16) -> [u32x8; 2] {
+    let h: [u16x8; 2] = bytemuck::cast(x);
+    [u32x8::from(h[0]), u32x8::from(h[1])]
+}
+
+/// `C` vectors of sixteen 16-bit lanes through permutations of a narrow
+/// domain of shape `s` (`16 < n ≤ 2¹⁶`), vector `v` with the lane key words
+/// `word(v, w)`: the top 16 bits of round word `w` (as `u16`), and at
+/// [`ROTATION`] `d = (n − c) mod 2¹⁶` for the rotation `c`
+/// ([`rotation_x16`]). Every lane must be below `n`. The Feistel rounds of
+/// the `C` vectors run interleaved; each round is
+/// `h ⊕= ((a'·x + b') mod 2¹⁶) >> (16 − l)`, equal to the 32-bit round of
+/// [`permute`] on the masked words ([`Shape::word_mask`]). The rotation
+/// `x + c mod n` is `x − d` when `x ≥ d`, else `x + c`, which never leaves
+/// 16 bits (`n = 2¹⁶` included).
+#[inline(always)]
+pub(crate) fn apply16<const C: usize>(
+    s: &Shape,
+    i: [u16x16; C],
+    word: impl Fn(usize, usize) -> u16x16,
+) -> [u16x16; C] {
+    debug_assert!(s.narrow() && s.n > SMALL_DOMAIN);
+    let mut x = i;
+    rounds16(s, &mut x, &word);
+    for v in 0..C {
+        // Cycle walking (never for n = 2¹⁶, whose domain is all of 16 bits).
+        if s.n < 1 << 16 {
+            let vn = u16x16::splat(s.n as u16);
+            let mut pending = x[v].simd_ge(vn);
+            while pending.any() {
+                let mut y = [x[v]];
+                rounds16(s, &mut y, &|_, w| word(v, w));
+                x[v] = pending.select(y[0], x[v]);
+                pending &= x[v].simd_ge(vn);
+            }
+        }
+        let d = word(v, ROTATION);
+        let c = u16x16::splat(s.n as u16) - d;
+        x[v] = x[v].simd_ge(d).select(x[v] - d, x[v] + c);
+    }
+    x
+}
+
+/// The Feistel rounds of [`apply16`] on `C` interleaved vectors.
+#[inline(always)]
+fn rounds16<const C: usize>(
+    s: &Shape,
+    x: &mut [u16x16; C],
+    word: &impl Fn(usize, usize) -> u16x16,
+) {
+    let lo_mask = u16x16::splat(((1u32 << s.lo_bits) - 1) as u16);
+    let (hi_shift, lo_shift) = (s.hi_shift - 16, s.lo_shift - 16);
+    let mut hi = [u16x16::ZERO; C];
+    let mut lo = [u16x16::ZERO; C];
+    for v in 0..C {
+        hi[v] = x[v] >> s.lo_bits;
+        lo[v] = x[v] & lo_mask;
+    }
+    for r in (0..s.rounds).step_by(2) {
+        for v in 0..C {
+            hi[v] ^= (word(v, 2 * r) * lo[v] + word(v, 2 * r + 1)) >> hi_shift;
+        }
+        for v in 0..C {
+            lo[v] ^= (word(v, 2 * r + 2) * hi[v] + word(v, 2 * r + 3)) >> lo_shift;
+        }
+    }
+    for v in 0..C {
+        x[v] = (hi[v] << s.lo_bits) | lo[v];
+    }
 }
 
 #[cfg(test)]
@@ -626,6 +795,66 @@ mod tests {
                 for l in 0..8 {
                     let key = (v * 8 + l) as u32 * 977 + n;
                     assert_eq!(o[l], permute(ia[l], n, key), "n {n} v {v} l {l}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sixteen_bit_lanes_match_scalar() {
+        // apply16 with PermuteX16's words (narrow domains in 16-bit lanes)
+        // against permute, lane by lane, for one, two and four interleaved
+        // vectors; indices cover the domain's ends (lanes at or above n are
+        // clamped to n − 1, as callers do with padding lanes).
+        for n in [
+            17u32, 31, 32, 33, 100, 255, 256, 257, 1000, 4095, 4096, 4097, 40_000, 65_535, 65_536,
+        ] {
+            for seed in [0u32, 0x9E37_79B9, 0xFFFF_FFFF] {
+                let key = |l: u32| seed ^ l.wrapping_mul(0x2545_F491) ^ n;
+                let lo = u32x8::new(core::array::from_fn(|l| key(l as u32)));
+                let hi = u32x8::new(core::array::from_fn(|l| key(l as u32 + 8)));
+                let p = PermuteX16::new(n, lo, hi);
+                let s = Shape::new(n);
+                let top = u16x16::splat((n - 1) as u16);
+                let apply = |x: &[u16x16]| -> [u16x16; 4] {
+                    let mut y = [u16x16::ZERO; 4];
+                    y[..x.len()].copy_from_slice(x);
+                    match x.len() {
+                        1 => {
+                            let [a] = apply16(&s, [y[0].min(top)], |_, w| p.word(w));
+                            [a, y[1], y[2], y[3]]
+                        }
+                        2 => {
+                            let [a, b] =
+                                apply16(&s, [y[0].min(top), y[1].min(top)], |_, w| p.word(w));
+                            [a, b, y[2], y[3]]
+                        }
+                        _ => apply16(&s, y.map(|v| v.min(top)), |_, w| p.word(w)),
+                    }
+                };
+                for base in [0u32, n / 3, n.saturating_sub(40)] {
+                    let idx = |v: u32, l: u32| (base + 16 * v + l).min(n + 5);
+                    let x: [u16x16; 4] = core::array::from_fn(|v| {
+                        u16x16::new(core::array::from_fn(|l| {
+                            idx(v as u32, l as u32).min(0xFFFF) as u16
+                        }))
+                    });
+                    let want = |v: u32, l: u32| permute(idx(v, l).min(n - 1), n, key(l));
+                    let one = apply(&x[..1]);
+                    let two = apply(&x[..2]);
+                    let four = apply(&x);
+                    for l in 0..16u32 {
+                        let at = |y: u16x16| u32::from(y.to_array()[l as usize]);
+                        assert_eq!(at(one[0]), want(0, l), "n {n} lane {l}");
+                        assert_eq!(at(two[1]), want(1, l), "n {n} lane {l}");
+                        for v in 0..4 {
+                            assert_eq!(at(four[v]), want(v as u32, l), "n {n} v {v} lane {l}");
+                        }
+                    }
+                    let wide = widen(four[3]);
+                    for l in 0..16 {
+                        assert_eq!(wide[l / 8].to_array()[l % 8], want(3, l as u32));
+                    }
                 }
             }
         }

@@ -74,7 +74,7 @@ pub use sobol::{Sobol, SOBOL_DIMENSIONS};
 use crate::error::PatternError;
 use crate::num::to_unit_f32;
 use crate::rng::Seed;
-use wide::f32x8;
+use wide::{f32x8, u32x8};
 
 pub use crate::num::torus::ONE_MINUS_EPSILON;
 
@@ -240,6 +240,14 @@ impl<const D: usize> Sink<D> for Aos<'_, D> {
     }
     #[inline(always)]
     fn put8(&mut self, i: usize, v: [f32x8; D]) {
+        if D == 2 {
+            // Two interleaving unpacks (x₀ y₀ x₁ y₁ …), two contiguous stores.
+            let (x, y): (u32x8, u32x8) = (bytemuck::cast(v[0]), bytemuck::cast(v[1]));
+            let out = [x.unpack_lo(y), x.unpack_hi(y)];
+            let dst = self.0[i..i + 8].as_flattened_mut();
+            dst.copy_from_slice(bytemuck::cast_slice::<u32x8, f32>(&out));
+            return;
+        }
         let a: [[f32; 8]; D] = build([0.0; 8], |j| v[j].to_array());
         let dst = &mut self.0[i..i + 8];
         for (l, p) in dst.iter_mut().enumerate() {

@@ -25,11 +25,11 @@ use super::sealed::{Generate, Sink};
 use super::{check_n, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{
-    apply4_with, key_word_x8, permute, rotation_x8, PermuteX8, Shape, KEY_WORDS, ROTATION,
-    SMALL_DOMAIN,
+    apply16, apply4_with, key_word_x8, permute, rotation_x16, rotation_x8, widen, PermuteX8, Shape,
+    KEY_WORDS, ROTATION, SMALL_DOMAIN,
 };
 use crate::rng::{Counter, Seed};
-use wide::u32x8;
+use wide::{u16x16, u32x8};
 
 const PURPOSE: u64 = 0x4D4A_4954;
 
@@ -88,7 +88,120 @@ impl Grid {
     }
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        self.gen_tiled(seed, first, sink);
+        let narrow = |n: u32| n > SMALL_DOMAIN && Shape::new(n).narrow();
+        if !self.correlated && narrow(self.rows) && narrow(self.cols) {
+            self.gen_mj16(seed, first, sink);
+        } else {
+            self.gen_tiled(seed, first, sink);
+        }
+    }
+
+    /// Multi-jitter with both permutation domains narrow (`16 < m, n ≤ 2¹⁶`):
+    /// the permutations run in sixteen 16-bit lanes
+    /// ([`crate::hash::apply16`]). The key words (top halves; the rotation
+    /// as `d = n − c`) of `π_x`, one key per column, are tabulated per tile
+    /// of [`MJ_TILE`] columns, and those of `π_y`, one per row, per tile of
+    /// [`TILE`] rows, eight keys at a time. Values as [`Grid::gen_scalar`].
+    fn gen_mj16<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        let len = sink.len() as u64;
+        if len == 0 {
+            return;
+        }
+        let key = seed.counter(PURPOSE);
+        let (kx, ky, step) = self.keys(seed);
+        let m = u64::from(self.cols);
+        let axis = Strata::new(self.cols * self.rows);
+        let (row_shape, col_shape) = (Shape::new(self.rows), Shape::new(self.cols));
+        let end = first + len;
+        let (j0, j1) = (first / m, (end - 1) / m + 1);
+        // Padded by 32 lanes: a group's second vector starts at most
+        // MJ_TILE + 8 (eight past the last in-range block) and reads 16.
+        let mut xw = [[0u16; MJ_TILE + 32]; KEY_WORDS];
+        let mut yw = [[0u16; TILE]; KEY_WORDS];
+        let lane = u32x8::new(core::array::from_fn(|l| l as u32));
+        let lane16 = u16x16::new(core::array::from_fn(|l| l as u16));
+        let (vn, vstep) = (u32x8::splat(self.rows), u32x8::splat(step));
+        let ymax = u16x16::splat((self.cols - 1) as u16);
+        let (mut bx0, mut by0) = (key.lanes(2 * first, 2), key.lanes(2 * first + 1, 2));
+        let mut r0 = j0;
+        while r0 < j1 {
+            let rc = ((j1 - r0) as usize).min(TILE);
+            for t in (0..rc).step_by(8) {
+                let rows = u32x8::splat(r0 as u32 + t as u32) + lane;
+                tabulate16(&col_shape, u32x8::splat(ky) + rows * vstep, &mut yw, t);
+            }
+            let mut c0 = 0;
+            while c0 < m {
+                let cc = ((m - c0) as usize).min(MJ_TILE);
+                let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
+                let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
+                if (r0..r0 + rc as u64).all(|j| col_lo(j) >= col_hi(j)) {
+                    c0 += cc as u64;
+                    continue;
+                }
+                for t in (0..cc).step_by(8) {
+                    let cols = u32x8::splat(c0 as u32 + t as u32) + lane;
+                    tabulate16(&row_shape, u32x8::splat(kx) + cols * vstep, &mut xw, t);
+                }
+                for j in r0..r0 + rc as u64 {
+                    let (lo, hi) = (col_lo(j), col_hi(j));
+                    if lo >= hi {
+                        continue;
+                    }
+                    let k0 = j * m + lo;
+                    let count = (hi - lo) as usize;
+                    let t0 = (lo - c0) as usize;
+                    let jj = (j - r0) as usize;
+                    bx0.seek(2 * k0, 2);
+                    by0.seek(2 * k0 + 1, 2);
+                    let (mut bx, mut by) = (bx0.clone(), by0.clone());
+                    let vrow = u32x8::splat((j * m) as u32);
+                    let vj = u16x16::splat(j as u16);
+                    let blocks = count / 8;
+                    let mut b = 0;
+                    while b < blocks {
+                        let g = (blocks - b).min(4);
+                        let i0 = lo as u32 + 8 * b as u32;
+                        // π_x: the row index in every lane, column keys from
+                        // the table; lanes past the range read padding.
+                        let px = apply16(&row_shape, [vj; 2], |c, w| {
+                            let at = t0 + 8 * b + 16 * c;
+                            match xw[w][at..].first_chunk::<16>() {
+                                Some(a) => u16x16::new(*a),
+                                None => u16x16::ZERO,
+                            }
+                        });
+                        // π_y: this row's key; columns past the row's end
+                        // clamped into [0, m) (their values are not used).
+                        let iy: [u16x16; 2] = core::array::from_fn(|c| {
+                            (u16x16::splat((i0 + 16 * c as u32) as u16) + lane16).min(ymax)
+                        });
+                        let py = apply16(&col_shape, iy, |_, w| u16x16::splat(yw[w][jj]));
+                        let four = |h: [u16x16; 2]| {
+                            let ([a, b], [c, d]) = (widen(h[0]), widen(h[1]));
+                            [a, b, c, d]
+                        };
+                        let (px, py) = (four(px), four(py));
+                        for v in 0..g {
+                            let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
+                            let x = axis.point_x8(vi * vn + px[v], bx.next_u32x8());
+                            let y = axis.point_x8(vrow + py[v], by.next_u32x8());
+                            sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                        }
+                        b += g;
+                    }
+                    for t in 8 * (count / 8)..count {
+                        let k = k0 + t as u64;
+                        sink.put(
+                            (k - first) as usize,
+                            self.point(key, (kx, ky, step), &axis, k),
+                        );
+                    }
+                }
+                c0 += cc as u64;
+            }
+            r0 += rc as u64;
+        }
     }
 
     /// Both variants, tile by tile. Point `(i, j)` (column `i`, row `j`) has
@@ -155,7 +268,7 @@ impl Grid {
                         let col = u32x8::splat(c0 as u32 + t as u32) + lane;
                         let keys = vkx + col * vstep;
                         for w in 0..row_shape.round_words() {
-                            let word = key_word_x8(keys, w).to_array();
+                            let word = key_word_x8(keys, w, &row_shape).to_array();
                             words[w][t..t + 8].copy_from_slice(&word);
                         }
                         let c = rotation_x8(keys, self.rows).to_array();
@@ -292,6 +405,21 @@ const TILE: usize = 256;
 
 /// Columns per key-word table of multi-jitter (`KEY_WORDS·64` words, 6.4 KiB).
 const MJ_TILE: usize = 64;
+
+/// Key words of eight permutations of a narrow domain `s` (lane keys
+/// `keys`) into columns `t..t + 8` of `table`, as
+/// [`crate::hash::apply16`] reads them: the top halves of the round words,
+/// and at [`ROTATION`] `d = (n − c) mod 2¹⁶`.
+fn tabulate16<const W: usize>(s: &Shape, keys: u32x8, table: &mut [[u16; W]; KEY_WORDS], t: usize) {
+    for w in 0..s.round_words() {
+        let a = (key_word_x8(keys, w, s) >> 16u32).to_array();
+        for (d, &x) in table[w][t..t + 8].iter_mut().zip(&a) {
+            *d = x as u16;
+        }
+    }
+    let d = rotation_x16(s, rotation_x8(keys, s.n()), u32x8::ZERO).to_array();
+    table[ROTATION][t..t + 8].copy_from_slice(&d[..8]);
+}
 
 /// `t[v] = π(start + v)` for `v < count` (`count ≤ TILE`), 32 at a time. The
 /// padding reads `π(n − 1)`: an index outside the domain could start a
