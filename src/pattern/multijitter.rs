@@ -113,7 +113,6 @@ impl Grid {
         let axis = Strata::new(self.cols * self.rows);
         let (row_shape, col_shape) = (Shape::new(self.rows), Shape::new(self.cols));
         let end = first + len;
-        let (j0, j1) = (first / m, (end - 1) / m + 1);
         // Padded by 32 lanes: a group's second vector starts at most
         // MJ_TILE + 8 (eight past the last in-range block) and reads 16.
         let mut xw = [[0u16; MJ_TILE + 32]; KEY_WORDS];
@@ -123,85 +122,68 @@ impl Grid {
         let (vn, vstep) = (u32x8::splat(self.rows), u32x8::splat(step));
         let ymax = u16x16::splat((self.cols - 1) as u16);
         let (mut bx0, mut by0) = (key.lanes(2 * first, 2), key.lanes(2 * first + 1, 2));
-        let mut r0 = j0;
-        while r0 < j1 {
-            let rc = ((j1 - r0) as usize).min(TILE);
-            for t in (0..rc).step_by(8) {
-                let rows = u32x8::splat(r0 as u32 + t as u32) + lane;
-                tabulate16(&col_shape, u32x8::splat(ky) + rows * vstep, &mut yw, t);
-            }
-            let mut c0 = 0;
-            while c0 < m {
-                let cc = ((m - c0) as usize).min(MJ_TILE);
-                let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
-                let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
-                if (r0..r0 + rc as u64).all(|j| col_lo(j) >= col_hi(j)) {
-                    c0 += cc as u64;
-                    continue;
+        let (mut r0, mut c0) = (0, 0);
+        walk_tiles(m, first, end, MJ_TILE, |tile| match tile {
+            Tile::Rows { start, count } => {
+                r0 = start;
+                for t in (0..count).step_by(8) {
+                    let rows = u32x8::splat(start as u32 + t as u32) + lane;
+                    tabulate16(&col_shape, u32x8::splat(ky) + rows * vstep, &mut yw, t);
                 }
-                for t in (0..cc).step_by(8) {
-                    let cols = u32x8::splat(c0 as u32 + t as u32) + lane;
+            }
+            Tile::Cols { start, count } => {
+                c0 = start;
+                for t in (0..count).step_by(8) {
+                    let cols = u32x8::splat(start as u32 + t as u32) + lane;
                     tabulate16(&row_shape, u32x8::splat(kx) + cols * vstep, &mut xw, t);
                 }
-                for j in r0..r0 + rc as u64 {
-                    let (lo, hi) = (col_lo(j), col_hi(j));
-                    if lo >= hi {
-                        continue;
-                    }
-                    let k0 = j * m + lo;
-                    let count = (hi - lo) as usize;
-                    let t0 = (lo - c0) as usize;
-                    let jj = (j - r0) as usize;
-                    bx0.seek(2 * k0, 2);
-                    by0.seek(2 * k0 + 1, 2);
-                    let (mut bx, mut by) = (bx0.clone(), by0.clone());
-                    let vrow = u32x8::splat((j * m) as u32);
-                    let vj = u16x16::splat(j as u16);
-                    let blocks = count / 8;
-                    let mut b = 0;
-                    while b < blocks {
-                        let g = (blocks - b).min(4);
-                        let i0 = lo as u32 + 8 * b as u32;
-                        // π_x: the row index in every lane, column keys from
-                        // the table; lanes past the range read padding.
-                        let px = apply16(&row_shape, [vj; 2], |c, w| {
-                            let at = t0 + 8 * b + 16 * c;
-                            match xw[w][at..].first_chunk::<16>() {
-                                Some(a) => u16x16::new(*a),
-                                None => u16x16::ZERO,
-                            }
-                        });
-                        // π_y: this row's key; columns past the row's end
-                        // clamped into [0, m) (their values are not used).
-                        let iy: [u16x16; 2] = core::array::from_fn(|c| {
-                            (u16x16::splat((i0 + 16 * c as u32) as u16) + lane16).min(ymax)
-                        });
-                        let py = apply16(&col_shape, iy, |_, w| u16x16::splat(yw[w][jj]));
-                        let four = |h: [u16x16; 2]| {
-                            let ([a, b], [c, d]) = (widen(h[0]), widen(h[1]));
-                            [a, b, c, d]
-                        };
-                        let (px, py) = (four(px), four(py));
-                        for v in 0..g {
-                            let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
-                            let x = axis.point_x8(vi * vn + px[v], bx.next_u32x8());
-                            let y = axis.point_x8(vrow + py[v], by.next_u32x8());
-                            sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
-                        }
-                        b += g;
-                    }
-                    for t in 8 * (count / 8)..count {
-                        let k = k0 + t as u64;
-                        sink.put(
-                            (k - first) as usize,
-                            self.point(key, (kx, ky, step), &axis, k),
-                        );
-                    }
-                }
-                c0 += cc as u64;
             }
-            r0 += rc as u64;
-        }
+            Tile::Run { j, lo, hi } => {
+                let k0 = j * m + lo;
+                let count = (hi - lo) as usize;
+                let t0 = (lo - c0) as usize;
+                let jj = (j - r0) as usize;
+                bx0.seek(2 * k0, 2);
+                by0.seek(2 * k0 + 1, 2);
+                let (mut bx, mut by) = (bx0.clone(), by0.clone());
+                let vrow = u32x8::splat((j * m) as u32);
+                let vj = u16x16::splat(j as u16);
+                let blocks = count / 8;
+                let mut b = 0;
+                while b < blocks {
+                    let g = (blocks - b).min(4);
+                    let i0 = lo as u32 + 8 * b as u32;
+                    // π_x: the row index in every lane, column keys from the
+                    // table; lanes past the range read padding.
+                    let px = apply16(&row_shape, [vj; 2], |c, w| {
+                        let at = t0 + 8 * b + 16 * c;
+                        match xw[w][at..].first_chunk::<16>() {
+                            Some(a) => u16x16::new(*a),
+                            None => u16x16::ZERO,
+                        }
+                    });
+                    // π_y: this row's key; columns past the row's end clamped
+                    // into [0, m) (their values are not used).
+                    let iy: [u16x16; 2] = core::array::from_fn(|c| {
+                        (u16x16::splat((i0 + 16 * c as u32) as u16) + lane16).min(ymax)
+                    });
+                    let py = apply16(&col_shape, iy, |_, w| u16x16::splat(yw[w][jj]));
+                    let four = |h: [u16x16; 2]| {
+                        let ([a, b], [c, d]) = (widen(h[0]), widen(h[1]));
+                        [a, b, c, d]
+                    };
+                    let (px, py) = (four(px), four(py));
+                    for v in 0..g {
+                        let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
+                        let x = axis.point_x8(vi * vn + px[v], bx.next_u32x8());
+                        let y = axis.point_x8(vrow + py[v], by.next_u32x8());
+                        sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                    }
+                    b += g;
+                }
+                self.put_tail(sink, (key, (kx, ky, step), &axis), first, k0, count);
+            }
+        });
     }
 
     /// Both variants, tile by tile. Point `(i, j)` (column `i`, row `j`) has
@@ -231,7 +213,6 @@ impl Grid {
         // π_y of the current row (multi-jitter), re-keyed in place.
         let mut own = by_col;
         let end = first + len;
-        let (j0, j1) = (first / m, (end - 1) / m + 1);
         let (mut tx, mut ty) = ([0u32; TILE], [0u32; TILE]);
         let mut words = [[0u32; MJ_TILE]; KEY_WORDS];
         let row_shape = Shape::new(self.rows);
@@ -243,29 +224,23 @@ impl Grid {
         );
         let lane = u32x8::new(core::array::from_fn(|l| l as u32));
         let (mut bx0, mut by0) = (key.lanes(2 * first, 2), key.lanes(2 * first + 1, 2));
-        let mut r0 = j0;
-        while r0 < j1 {
-            let rc = ((j1 - r0) as usize).min(TILE);
-            if correlated {
-                tabulate(&by_row, self.rows, r0, rc, &mut tx);
-            }
-            let mut c0 = 0;
-            while c0 < m {
-                let cc = ((m - c0) as usize).min(col_tile);
-                // Columns [c0, c0 + cc) of rows [r0, r0 + rc) that lie in the range.
-                let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
-                let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
-                if (r0..r0 + rc as u64).all(|j| col_lo(j) >= col_hi(j)) {
-                    c0 += cc as u64;
-                    continue;
-                }
+        let (mut r0, mut c0) = (0, 0);
+        walk_tiles(m, first, end, col_tile, |tile| match tile {
+            Tile::Rows { start, count } => {
+                r0 = start;
                 if correlated {
-                    tabulate(&by_col, self.cols, c0, cc, &mut ty);
+                    tabulate(&by_row, self.rows, start, count, &mut tx);
+                }
+            }
+            Tile::Cols { start, count } => {
+                c0 = start;
+                if correlated {
+                    tabulate(&by_col, self.cols, start, count, &mut ty);
                 } else if self.rows > SMALL_DOMAIN {
-                    // Eight columns at a time; columns past `cc` (up to
+                    // Eight columns at a time; columns past `count` (up to
                     // MJ_TILE) get keys too and are never read in range.
-                    for t in (0..cc).step_by(8) {
-                        let col = u32x8::splat(c0 as u32 + t as u32) + lane;
+                    for t in (0..count).step_by(8) {
+                        let col = u32x8::splat(start as u32 + t as u32) + lane;
                         let keys = vkx + col * vstep;
                         for w in 0..row_shape.round_words() {
                             let word = key_word_x8(keys, w, &row_shape).to_array();
@@ -275,97 +250,100 @@ impl Grid {
                         words[ROTATION][t..t + 8].copy_from_slice(&c);
                     }
                 }
-                for j in r0..r0 + rc as u64 {
-                    let (lo, hi) = (col_lo(j), col_hi(j));
-                    if lo >= hi {
-                        continue;
-                    }
-                    let k0 = j * m + lo;
-                    let count = (hi - lo) as usize;
-                    let t0 = (lo - c0) as usize;
-                    // Local copies (kept in registers), moved without rehashing.
-                    bx0.seek(2 * k0, 2);
-                    by0.seek(2 * k0 + 1, 2);
-                    let (mut bx, mut by) = (bx0.clone(), by0.clone());
-                    let vrow = u32x8::splat((j * m) as u32);
-                    let vj = u32x8::splat(j as u32);
-                    // π_y with this row's key (k_y itself for CMJ: by_col).
-                    let row_perm = if correlated {
-                        &by_col
-                    } else {
-                        let key = ky.wrapping_add((j as u32).wrapping_mul(step));
-                        own.set_key(u32x8::splat(key));
-                        &own
-                    };
-                    let mut vi = u32x8::splat(lo as u32) + lane;
-                    // Groups of four blocks: four independent permutation
-                    // chains in flight (PermuteX8::apply4).
-                    let blocks = count / 8;
-                    let mut b = 0;
-                    while b < blocks {
-                        let g = (blocks - b).min(4);
-                        let vis: [u32x8; 4] =
-                            core::array::from_fn(|v| vi + u32x8::splat(8 * v as u32));
-                        let (px, py): ([u32x8; 4], [u32x8; 4]) = if correlated {
-                            (
-                                [u32x8::splat(tx[(j - r0) as usize]); 4],
-                                core::array::from_fn(|v| {
-                                    let t = (t0 + 8 * (b + v)).min(TILE - 8);
-                                    u32x8::new(core::array::from_fn(|l| ty[t + l]))
-                                }),
-                            )
-                        } else {
-                            // π_x: per-lane column keys from the table.
-                            let col_word = |v: usize, w: usize| {
-                                let t = (t0 + 8 * (b + v)).min(MJ_TILE - 8);
-                                match words[w][t..].first_chunk::<8>() {
-                                    Some(a) => u32x8::new(*a),
-                                    None => u32x8::ZERO,
-                                }
-                            };
-                            // π_x's input is the row index, valid in every
-                            // lane, so all four vectors run even when fewer are
-                            // in range.
-                            let px: [u32x8; 4] = if self.rows > SMALL_DOMAIN {
-                                apply4_with(&row_shape, [vj; 4], col_word)
-                            } else {
-                                core::array::from_fn(|v| {
-                                    PermuteX8::new(self.rows, vkx + vis[v] * vstep).apply(vj)
-                                })
-                            };
-                            // Only the g blocks in range for π_y: lanes past the
-                            // row's end are outside [0, m), where a cycle walk
-                            // need not end.
-                            let py = if g == 4 {
-                                PermuteX8::apply4([row_perm; 4], vis)
-                            } else {
-                                let mut py = [u32x8::ZERO; 4];
-                                for v in 0..g {
-                                    py[v] = row_perm.apply(vis[v]);
-                                }
-                                py
-                            };
-                            (px, py)
-                        };
-                        for v in 0..g {
-                            let x = axis.point_x8(vis[v] * vn + px[v], bx.next_u32x8());
-                            let y = axis.point_x8(vrow + py[v], by.next_u32x8());
-                            sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
-                        }
-                        b += g;
-                        vi += u32x8::splat(8 * g as u32);
-                    }
-                    for t in 8 * (count / 8)..count {
-                        let k = k0 + t as u64;
-                        sink.put(
-                            (k - first) as usize,
-                            self.point(key, (kx, ky, step), &axis, k),
-                        );
-                    }
-                }
-                c0 += cc as u64;
             }
-            r0 += rc as u64;
+            Tile::Run { j, lo, hi } => {
+                let k0 = j * m + lo;
+                let count = (hi - lo) as usize;
+                let t0 = (lo - c0) as usize;
+                // Local copies (kept in registers), moved without rehashing.
+                bx0.seek(2 * k0, 2);
+                by0.seek(2 * k0 + 1, 2);
+                let (mut bx, mut by) = (bx0.clone(), by0.clone());
+                let vrow = u32x8::splat((j * m) as u32);
+                let vj = u32x8::splat(j as u32);
+                // π_y with this row's key (k_y itself for CMJ: by_col).
+                let row_perm = if correlated {
+                    &by_col
+                } else {
+                    let key = ky.wrapping_add((j as u32).wrapping_mul(step));
+                    own.set_key(u32x8::splat(key));
+                    &own
+                };
+                let mut vi = u32x8::splat(lo as u32) + lane;
+                // Groups of four blocks: four independent permutation chains
+                // in flight (PermuteX8::apply4).
+                let blocks = count / 8;
+                let mut b = 0;
+                while b < blocks {
+                    let g = (blocks - b).min(4);
+                    let vis: [u32x8; 4] = core::array::from_fn(|v| vi + u32x8::splat(8 * v as u32));
+                    let (px, py): ([u32x8; 4], [u32x8; 4]) = if correlated {
+                        (
+                            [u32x8::splat(tx[(j - r0) as usize]); 4],
+                            core::array::from_fn(|v| {
+                                let t = (t0 + 8 * (b + v)).min(TILE - 8);
+                                u32x8::new(core::array::from_fn(|l| ty[t + l]))
+                            }),
+                        )
+                    } else {
+                        // π_x: per-lane column keys from the table.
+                        let col_word = |v: usize, w: usize| {
+                            let t = (t0 + 8 * (b + v)).min(MJ_TILE - 8);
+                            match words[w][t..].first_chunk::<8>() {
+                                Some(a) => u32x8::new(*a),
+                                None => u32x8::ZERO,
+                            }
+                        };
+                        // π_x's input is the row index, valid in every lane,
+                        // so all four vectors run even when fewer are in range.
+                        let px: [u32x8; 4] = if self.rows > SMALL_DOMAIN {
+                            apply4_with(&row_shape, [vj; 4], col_word)
+                        } else {
+                            core::array::from_fn(|v| {
+                                PermuteX8::new(self.rows, vkx + vis[v] * vstep).apply(vj)
+                            })
+                        };
+                        // Only the g blocks in range for π_y: lanes past the
+                        // row's end are outside [0, m), where a cycle walk need
+                        // not end.
+                        let py = if g == 4 {
+                            PermuteX8::apply4([row_perm; 4], vis)
+                        } else {
+                            let mut py = [u32x8::ZERO; 4];
+                            for v in 0..g {
+                                py[v] = row_perm.apply(vis[v]);
+                            }
+                            py
+                        };
+                        (px, py)
+                    };
+                    for v in 0..g {
+                        let x = axis.point_x8(vis[v] * vn + px[v], bx.next_u32x8());
+                        let y = axis.point_x8(vrow + py[v], by.next_u32x8());
+                        sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                    }
+                    b += g;
+                    vi += u32x8::splat(8 * g as u32);
+                }
+                self.put_tail(sink, (key, (kx, ky, step), &axis), first, k0, count);
+            }
+        });
+    }
+
+    /// The points of a row run past its last whole block of eight, `k0` its
+    /// first point and `count` its length, by scalar code.
+    #[inline]
+    fn put_tail<S: Sink<2>>(
+        &self,
+        sink: &mut S,
+        (key, keys, axis): (Counter, (u32, u32, u32), &Strata),
+        first: u64,
+        k0: u64,
+        count: usize,
+    ) {
+        for t in 8 * (count / 8)..count {
+            let k = k0 + t as u64;
+            sink.put((k - first) as usize, self.point(key, keys, axis, k));
         }
     }
 
@@ -396,6 +374,53 @@ impl Grid {
         for t in 0..sink.len() {
             sink.put(t, self.point(key, keys, &axis, first + t as u64));
         }
+    }
+}
+
+/// One step of [`walk_tiles`].
+enum Tile {
+    /// A tile of `count` rows from row `start` begins.
+    Rows { start: u64, count: usize },
+    /// `count` columns from column `start` of the current rows hold points
+    /// of the range.
+    Cols { start: u64, count: usize },
+    /// Row `j`'s points in the current tile: columns `[lo, hi)`.
+    Run { j: u64, lo: u64, hi: u64 },
+}
+
+/// Walks the points `[first, end)` of a grid of `m` columns (point `k` in
+/// column `k mod m`, row `⌊k/m⌋`) by tiles of [`TILE`] rows and `col_tile`
+/// columns, column tiles within row tiles, skipping tiles without points of
+/// the range; within a tile, rows in order.
+fn walk_tiles(m: u64, first: u64, end: u64, col_tile: usize, mut f: impl FnMut(Tile)) {
+    let (j0, j1) = (first / m, (end - 1) / m + 1);
+    let mut r0 = j0;
+    while r0 < j1 {
+        let rc = ((j1 - r0) as usize).min(TILE);
+        f(Tile::Rows {
+            start: r0,
+            count: rc,
+        });
+        let mut c0 = 0;
+        while c0 < m {
+            let cc = ((m - c0) as usize).min(col_tile);
+            let col_lo = |j: u64| first.saturating_sub(j * m).max(c0);
+            let col_hi = |j: u64| (end - j * m).min(c0 + cc as u64);
+            if (r0..r0 + rc as u64).any(|j| col_lo(j) < col_hi(j)) {
+                f(Tile::Cols {
+                    start: c0,
+                    count: cc,
+                });
+                for j in r0..r0 + rc as u64 {
+                    let (lo, hi) = (col_lo(j), col_hi(j));
+                    if lo < hi {
+                        f(Tile::Run { j, lo, hi });
+                    }
+                }
+            }
+            c0 += cc as u64;
+        }
+        r0 += rc as u64;
     }
 }
 
