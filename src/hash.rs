@@ -437,11 +437,14 @@ fn feistel_x8(s: &Shape, x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
 #[inline(always)]
 fn finish(s: &Shape, mut x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
     let vn = u32x8::splat(s.n);
-    let mut pending = x.simd_ge(vn);
-    while pending.any() {
-        let y = feistel_x8(s, x, &word);
-        x = pending.select(y, x);
-        pending &= x.simd_ge(vn);
+    // A power-of-two domain (n = mask + 1) never walks.
+    if s.n <= s.mask {
+        let mut pending = x.simd_ge(vn);
+        while pending.any() {
+            let y = feistel_x8(s, x, &word);
+            x = pending.select(y, x);
+            pending &= x.simd_ge(vn);
+        }
     }
     let y = x + word(ROTATION);
     let over = y.simd_ge(vn);
@@ -564,8 +567,8 @@ pub(crate) fn apply16<const C: usize>(
     let mut x = i;
     rounds16(s, &mut x, &word);
     for v in 0..C {
-        // Cycle walking (never for n = 2¹⁶, whose domain is all of 16 bits).
-        if s.n < 1 << 16 {
+        // Cycle walking (never for a power of two, n = 2ᵇ = mask + 1).
+        if s.n <= s.mask {
             let vn = u16x16::splat(s.n as u16);
             let mut pending = x[v].simd_ge(vn);
             while pending.any() {

@@ -115,7 +115,7 @@ impl Grid {
         let end = first + len;
         // Padded by 32 lanes: a group's second vector starts at most
         // MJ_TILE + 8 (eight past the last in-range block) and reads 16.
-        let mut xw = [[0u16; MJ_TILE + 32]; KEY_WORDS];
+        let mut xw = [[0u16; MJ_TILE + 8 * GROUP]; KEY_WORDS];
         let mut yw = [[0u16; TILE]; KEY_WORDS];
         let lane = u32x8::new(core::array::from_fn(|l| l as u32));
         let lane16 = u16x16::new(core::array::from_fn(|l| l as u16));
@@ -151,11 +151,11 @@ impl Grid {
                 let blocks = count / 8;
                 let mut b = 0;
                 while b < blocks {
-                    let g = (blocks - b).min(4);
+                    let g = (blocks - b).min(GROUP);
                     let i0 = lo as u32 + 8 * b as u32;
                     // π_x: the row index in every lane, column keys from the
                     // table; lanes past the range read padding.
-                    let px = apply16(&row_shape, [vj; 2], |c, w| {
+                    let px = apply16(&row_shape, [vj; GROUP / 2], |c, w| {
                         let at = t0 + 8 * b + 16 * c;
                         match xw[w][at..].first_chunk::<16>() {
                             Some(a) => u16x16::new(*a),
@@ -164,19 +164,15 @@ impl Grid {
                     });
                     // π_y: this row's key; columns past the row's end clamped
                     // into [0, m) (their values are not used).
-                    let iy: [u16x16; 2] = core::array::from_fn(|c| {
+                    let iy: [u16x16; GROUP / 2] = core::array::from_fn(|c| {
                         (u16x16::splat((i0 + 16 * c as u32) as u16) + lane16).min(ymax)
                     });
                     let py = apply16(&col_shape, iy, |_, w| u16x16::splat(yw[w][jj]));
-                    let four = |h: [u16x16; 2]| {
-                        let ([a, b], [c, d]) = (widen(h[0]), widen(h[1]));
-                        [a, b, c, d]
-                    };
-                    let (px, py) = (four(px), four(py));
                     for v in 0..g {
                         let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
-                        let x = axis.point_x8(vi * vn + px[v], bx.next_u32x8());
-                        let y = axis.point_x8(vrow + py[v], by.next_u32x8());
+                        let (pxv, pyv) = (widen(px[v / 2])[v % 2], widen(py[v / 2])[v % 2]);
+                        let x = axis.point_x8(vi * vn + pxv, bx.next_u32x8());
+                        let y = axis.point_x8(vrow + pyv, by.next_u32x8());
                         sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
                     }
                     b += g;
@@ -376,6 +372,10 @@ impl Grid {
         }
     }
 }
+
+/// Blocks of eight points per group of the 16-bit multi-jitter path (its
+/// permutations run `GROUP/2` chains of sixteen lanes).
+const GROUP: usize = 8;
 
 /// One step of [`walk_tiles`].
 enum Tile {
