@@ -63,6 +63,7 @@
 //! [^5]: M. Thorup, *High Speed Hashing for Integers and Strings*, arXiv:1504.06804
 //!   (2015), section on multiply-add-shift.
 
+use crate::num::lane::IntLane;
 use crate::rng::{mix32, mix32x8};
 use wide::{u16x16, u16x8, u32x8};
 
@@ -173,12 +174,6 @@ impl Shape {
             lo_shift: 32 - lo_bits,
             rounds: rounds(bits),
         }
-    }
-
-    /// The domain size `n`.
-    #[inline(always)]
-    pub(crate) const fn n(&self) -> u32 {
-        self.n
     }
 
     /// Key words this shape reads: `2·rounds` round words (the rotation word
@@ -396,9 +391,7 @@ impl PermuteX8 {
         if n <= SMALL_DOMAIN {
             return self.small(i);
         }
-        let word = |w: usize| self.words[w];
-        let x = i & u32x8::splat(self.shape.mask);
-        finish(&self.shape, feistel_x8(&self.shape, x, word), word)
+        apply_with(&self.shape, [i], |_, w| self.words[w])[0]
     }
 
     /// Four vectors through four permutation sets sharing `n`: element `v` is
@@ -415,77 +408,81 @@ impl PermuteX8 {
         if s.n <= SMALL_DOMAIN {
             return core::array::from_fn(|v| perms[v].apply(i[v]));
         }
-        apply4_with(&s, i, |v, w| perms[v].words[w])
+        apply_with(&s, i, |v, w| perms[v].words[w])
     }
 }
 
-/// The keyed bijection `P` on one vector, with word `w` of the lane keys from
-/// `word(w)`.
+/// The Feistel rounds of `C` interleaved vectors (the keyed bijection `P`
+/// of `[0, 2ᵇ)`), vector `v` with word `w` of its lane keys from `word(v, w)`.
 #[inline(always)]
-fn feistel_x8(s: &Shape, x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
-    let mut hi = x >> s.lo_bits;
-    let mut lo = x & u32x8::splat((1 << s.lo_bits) - 1);
-    for r in (0..s.rounds).step_by(2) {
-        hi ^= (word(2 * r) * lo + word(2 * r + 1)) >> s.hi_shift;
-        lo ^= (word(2 * r + 2) * hi + word(2 * r + 3)) >> s.lo_shift;
-    }
-    (hi << s.lo_bits) | lo
-}
-
-/// Cycle walking of the lanes still outside `[0, n)`, then the rotation
-/// `word(ROTATION)` (already reduced to `[0, n)`, [`rotation_x8`]).
-#[inline(always)]
-fn finish(s: &Shape, mut x: u32x8, word: impl Fn(usize) -> u32x8) -> u32x8 {
-    let vn = u32x8::splat(s.n);
-    // A power-of-two domain (n = mask + 1) never walks.
-    if s.n <= s.mask {
-        let mut pending = x.simd_ge(vn);
-        while pending.any() {
-            let y = feistel_x8(s, x, &word);
-            x = pending.select(y, x);
-            pending &= x.simd_ge(vn);
-        }
-    }
-    let y = x + word(ROTATION);
-    let over = y.simd_ge(vn);
-    y - (over & vn)
-}
-
-/// Four vectors through permutations of a domain of shape `s` (`n > 16`),
-/// element `v` with the lane key words `word(v, w)` (and at [`ROTATION`] the
-/// rotation of [`rotation_x8`], not its raw word): the Feistel rounds of
-/// the four run interleaved, then each finishes. Every lane must be below
-/// `n`. For callers that keep key words in their own tables (multi-jitter's
-/// per-column keys); values as [`permute`] with those keys.
-#[inline(always)]
-pub(crate) fn apply4_with(
+fn feistel_lanes<L: IntLane, const C: usize>(
     s: &Shape,
-    i: [u32x8; 4],
-    word: impl Fn(usize, usize) -> u32x8,
-) -> [u32x8; 4] {
-    let lo_mask = u32x8::splat((1 << s.lo_bits) - 1);
+    x: &mut [L; C],
+    word: &impl Fn(usize, usize) -> L,
+) {
+    let lo_mask = L::splat((1 << s.lo_bits) - 1);
+    let (hi_shift, lo_shift) = (s.hi_shift - L::NARROWER, s.lo_shift - L::NARROWER);
     // Plain loops over fixed-size arrays (not `array::from_fn`, whose
     // closures the compiler does not always inline here).
-    let mut hi = [u32x8::ZERO; 4];
-    let mut lo = [u32x8::ZERO; 4];
-    let mask = u32x8::splat(s.mask);
-    for v in 0..4 {
-        hi[v] = (i[v] & mask) >> s.lo_bits;
-        lo[v] = i[v] & lo_mask;
+    let (mut hi, mut lo) = (*x, *x);
+    for v in 0..C {
+        hi[v] = x[v] >> s.lo_bits;
+        lo[v] = x[v] & lo_mask;
     }
     for r in (0..s.rounds).step_by(2) {
-        for v in 0..4 {
-            hi[v] ^= (word(v, 2 * r) * lo[v] + word(v, 2 * r + 1)) >> s.hi_shift;
+        for v in 0..C {
+            hi[v] ^= (word(v, 2 * r) * lo[v] + word(v, 2 * r + 1)) >> hi_shift;
         }
-        for v in 0..4 {
-            lo[v] ^= (word(v, 2 * r + 2) * hi[v] + word(v, 2 * r + 3)) >> s.lo_shift;
+        for v in 0..C {
+            lo[v] ^= (word(v, 2 * r + 2) * hi[v] + word(v, 2 * r + 3)) >> lo_shift;
         }
     }
-    let mut out = [u32x8::ZERO; 4];
-    for v in 0..4 {
-        out[v] = finish(s, (hi[v] << s.lo_bits) | lo[v], |w| word(v, w));
+    for v in 0..C {
+        x[v] = (hi[v] << s.lo_bits) | lo[v];
     }
-    out
+}
+
+/// Cycle walking (Black & Rogaway 2002): `P` re-applied to the lanes of `x`
+/// still outside `[0, n)`, with the lane key words `word(w)`. A power-of-two
+/// domain (`n = mask + 1`) never walks.
+#[inline(always)]
+fn walk<L: IntLane>(s: &Shape, mut x: L, word: impl Fn(usize) -> L) -> L {
+    if s.n > s.mask {
+        return x;
+    }
+    let vn = L::splat(s.n);
+    let mut pending = x.ge(vn);
+    while pending.any() {
+        let mut y = [x];
+        feistel_lanes(s, &mut y, &|_, w| word(w));
+        x = L::select(pending, y[0], x);
+        pending = pending & x.ge(vn);
+    }
+    x
+}
+
+/// `C` vectors through permutations of a domain of shape `s` (`n > 16`),
+/// element `v` with the lane key words `word(v, w)` (and at [`ROTATION`] the
+/// rotation of [`rotation_x8`], not its raw word): the Feistel rounds of
+/// the `C` run interleaved, then each walks into `[0, n)` and is rotated.
+/// Every lane must be below `n`. For callers that keep key words in their
+/// own tables (multi-jitter's per-column keys); values as [`permute`] with
+/// those keys.
+#[inline(always)]
+pub(crate) fn apply_with<const C: usize>(
+    s: &Shape,
+    i: [u32x8; C],
+    word: impl Fn(usize, usize) -> u32x8,
+) -> [u32x8; C] {
+    let mask = u32x8::splat(s.mask);
+    let mut x = i.map(|v| v & mask);
+    feistel_lanes(s, &mut x, &word);
+    let vn = u32x8::splat(s.n);
+    for v in 0..C {
+        let y = walk(s, x[v], |w| word(v, w)) + word(v, ROTATION);
+        x[v] = y - (y.simd_ge(vn) & vn);
+    }
+    x
 }
 
 /// The key words of sixteen permutations of a narrow domain
@@ -506,12 +503,16 @@ impl PermuteX16 {
     #[must_use]
     pub(crate) fn new(n: u32, lo: u32x8, hi: u32x8) -> Self {
         let shape = Shape::new(n);
-        debug_assert!(shape.narrow() && n > SMALL_DOMAIN);
-        let mut words = [u16x16::ZERO; KEY_WORDS];
-        for (w, word) in words.iter_mut().enumerate().take(shape.round_words()) {
-            *word = top_halves(raw_word_x8(lo, w), raw_word_x8(hi, w));
-        }
-        words[ROTATION] = rotation_x16(&shape, rotation_x8(lo, n), rotation_x8(hi, n));
+        let (a, b) = (narrow_words_x8(lo, &shape), narrow_words_x8(hi, &shape));
+        let words = core::array::from_fn(|w| {
+            u16x16::new(core::array::from_fn(|l| {
+                if l < 8 {
+                    a[w][l]
+                } else {
+                    b[w][l - 8]
+                }
+            }))
+        });
         PermuteX16 { words }
     }
 
@@ -522,21 +523,32 @@ impl PermuteX16 {
     }
 }
 
-/// Lanes 0–7 the top 16 bits of `lo`, lanes 8–15 those of `hi`.
+/// Whether permutations of `[0, n)` run in 16-bit lanes ([`apply16`]):
+/// `16 < n ≤ 2¹⁶` ([`Shape::narrow`], above the Fisher–Yates tables).
 #[inline(always)]
-fn top_halves(lo: u32x8, hi: u32x8) -> u16x16 {
-    let (a, b) = ((lo >> 16u32).to_array(), (hi >> 16u32).to_array());
-    u16x16::new(core::array::from_fn(|l| {
-        (if l < 8 { a[l] } else { b[l - 8] }) as u16
-    }))
+#[must_use]
+pub(crate) const fn in_sixteen_bits(n: u32) -> bool {
+    n > SMALL_DOMAIN && n <= 1 << 16
 }
 
-/// The 16-bit rotation word of [`apply16`]: `d = (n − c) mod 2¹⁶` from the
-/// rotations `c` ([`rotation_x8`]) of lanes 0–7 (`lo`) and 8–15 (`hi`).
-#[inline(always)]
-pub(crate) fn rotation_x16(s: &Shape, lo: u32x8, hi: u32x8) -> u16x16 {
-    let n = u32x8::splat(s.n);
-    top_halves((n - lo) << 16u32, (n - hi) << 16u32)
+/// The key words of eight lane keys for a narrow domain of shape `s`, as
+/// [`apply16`] reads them, lane by lane: the top 16 bits of each round word
+/// ([`Shape::word_mask`]) and at [`ROTATION`] `d = (n − c) mod 2¹⁶` for the
+/// rotation `c` ([`rotation_x8`]); zero elsewhere.
+///
+/// # Panics
+/// Debug builds assert that the domain is narrow and above 16 elements.
+#[inline]
+#[must_use]
+pub(crate) fn narrow_words_x8(key: u32x8, s: &Shape) -> [[u16; 8]; KEY_WORDS] {
+    debug_assert!(in_sixteen_bits(s.n));
+    let narrow = |v: u32x8| (v >> 16u32).to_array().map(|x| x as u16);
+    let mut words = [[0u16; 8]; KEY_WORDS];
+    for (w, word) in words.iter_mut().enumerate().take(s.round_words()) {
+        *word = narrow(raw_word_x8(key, w));
+    }
+    words[ROTATION] = narrow((u32x8::splat(s.n) - rotation_x8(key, s.n)) << 16u32);
+    words
 }
 
 /// The two halves of a vector of sixteen 16-bit lanes, zero-extended.
@@ -551,7 +563,7 @@ pub(crate) fn widen(x: u16x16) -> [u32x8; 2] {
 /// domain of shape `s` (`16 < n ≤ 2¹⁶`), vector `v` with the lane key words
 /// `word(v, w)`: the top 16 bits of round word `w` (as `u16`), and at
 /// [`ROTATION`] `d = (n − c) mod 2¹⁶` for the rotation `c`
-/// ([`rotation_x16`]). Every lane must be below `n`. The Feistel rounds of
+/// ([`narrow_words_x8`]). Every lane must be below `n`. The Feistel rounds of
 /// the `C` vectors run interleaved; each round is
 /// `h ⊕= ((a'·x + b') mod 2¹⁶) >> (16 − l)`, equal to the 32-bit round of
 /// [`permute`] on the masked words ([`Shape::word_mask`]). The rotation
@@ -563,54 +575,16 @@ pub(crate) fn apply16<const C: usize>(
     i: [u16x16; C],
     word: impl Fn(usize, usize) -> u16x16,
 ) -> [u16x16; C] {
-    debug_assert!(s.narrow() && s.n > SMALL_DOMAIN);
+    debug_assert!(in_sixteen_bits(s.n));
     let mut x = i;
-    rounds16(s, &mut x, &word);
+    feistel_lanes(s, &mut x, &word);
     for v in 0..C {
-        // Cycle walking (never for a power of two, n = 2ᵇ = mask + 1).
-        if s.n <= s.mask {
-            let vn = u16x16::splat(s.n as u16);
-            let mut pending = x[v].simd_ge(vn);
-            while pending.any() {
-                let mut y = [x[v]];
-                rounds16(s, &mut y, &|_, w| word(v, w));
-                x[v] = pending.select(y[0], x[v]);
-                pending &= x[v].simd_ge(vn);
-            }
-        }
+        x[v] = walk(s, x[v], |w| word(v, w));
         let d = word(v, ROTATION);
         let c = u16x16::splat(s.n as u16) - d;
         x[v] = x[v].simd_ge(d).select(x[v] - d, x[v] + c);
     }
     x
-}
-
-/// The Feistel rounds of [`apply16`] on `C` interleaved vectors.
-#[inline(always)]
-fn rounds16<const C: usize>(
-    s: &Shape,
-    x: &mut [u16x16; C],
-    word: &impl Fn(usize, usize) -> u16x16,
-) {
-    let lo_mask = u16x16::splat(((1u32 << s.lo_bits) - 1) as u16);
-    let (hi_shift, lo_shift) = (s.hi_shift - 16, s.lo_shift - 16);
-    let mut hi = [u16x16::ZERO; C];
-    let mut lo = [u16x16::ZERO; C];
-    for v in 0..C {
-        hi[v] = x[v] >> s.lo_bits;
-        lo[v] = x[v] & lo_mask;
-    }
-    for r in (0..s.rounds).step_by(2) {
-        for v in 0..C {
-            hi[v] ^= (word(v, 2 * r) * lo[v] + word(v, 2 * r + 1)) >> hi_shift;
-        }
-        for v in 0..C {
-            lo[v] ^= (word(v, 2 * r + 2) * hi[v] + word(v, 2 * r + 3)) >> lo_shift;
-        }
-    }
-    for v in 0..C {
-        x[v] = (hi[v] << s.lo_bits) | lo[v];
-    }
 }
 
 #[cfg(test)]
@@ -819,22 +793,8 @@ mod tests {
                 let p = PermuteX16::new(n, lo, hi);
                 let s = Shape::new(n);
                 let top = u16x16::splat((n - 1) as u16);
-                let apply = |x: &[u16x16]| -> [u16x16; 4] {
-                    let mut y = [u16x16::ZERO; 4];
-                    y[..x.len()].copy_from_slice(x);
-                    match x.len() {
-                        1 => {
-                            let [a] = apply16(&s, [y[0].min(top)], |_, w| p.word(w));
-                            [a, y[1], y[2], y[3]]
-                        }
-                        2 => {
-                            let [a, b] =
-                                apply16(&s, [y[0].min(top), y[1].min(top)], |_, w| p.word(w));
-                            [a, b, y[2], y[3]]
-                        }
-                        _ => apply16(&s, y.map(|v| v.min(top)), |_, w| p.word(w)),
-                    }
-                };
+                let clamp = |v: u16x16| v.min(top);
+                let word = |_: usize, w: usize| p.word(w);
                 for base in [0u32, n / 3, n.saturating_sub(40)] {
                     let idx = |v: u32, l: u32| (base + 16 * v + l).min(n + 5);
                     let x: [u16x16; 4] = core::array::from_fn(|v| {
@@ -843,9 +803,9 @@ mod tests {
                         }))
                     });
                     let want = |v: u32, l: u32| permute(idx(v, l).min(n - 1), n, key(l));
-                    let one = apply(&x[..1]);
-                    let two = apply(&x[..2]);
-                    let four = apply(&x);
+                    let one = apply16(&s, [clamp(x[0])], word);
+                    let two = apply16(&s, [clamp(x[0]), clamp(x[1])], word);
+                    let four = apply16(&s, x.map(clamp), word);
                     for l in 0..16u32 {
                         let at = |y: u16x16| u32::from(y.to_array()[l as usize]);
                         assert_eq!(at(one[0]), want(0, l), "n {n} lane {l}");

@@ -2,7 +2,9 @@
 //! once, generic over [`Lane`], and instantiated for a scalar (the reference
 //! path, always compiled and tested) and for a `wide` vector (the SIMD path):
 //! `f32`/`f32x8` for the `f32` closed forms ([`F32Lane`]), `f64`/`f64x4` for the
-//! periodogram kernels ([`F64Lane`]).
+//! periodogram kernels ([`F64Lane`]). The hash permutations' Feistel rounds
+//! are generic over [`IntLane`] (`u32x8`, and `u16x16` for small domains);
+//! their scalar reference is `hash::permute`.
 //!
 //! Both instantiations of a kernel execute the same IEEE operations in the same
 //! order, so they agree **bit for bit** lane by lane, and in every build:
@@ -14,8 +16,8 @@
 //!   lane otherwise (an unfused `a·b + c` would differ between the SSE2 and the
 //!   AVX2 build). The `f32` closed forms use no `fma` at all.
 
-use core::ops::{Add, Div, Mul, Neg, Sub};
-use wide::{f32x8, f64x4, i32x8};
+use core::ops::{Add, BitAnd, BitOr, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
+use wide::{f32x8, f64x4, i32x8, u16x16, u32x8};
 
 /// Width of the `f32` SIMD batch of the closed forms.
 pub(crate) const LANES: usize = 8;
@@ -308,6 +310,58 @@ pub(crate) fn load8(s: &[f32], i: usize) -> f32x8 {
 pub(crate) fn store8(s: &mut [f32], i: usize, v: f32x8) {
     v.store(&mut s[i..i + LANES]);
 }
+
+/// An unsigned integer lane type for the hash permutations
+/// (`crate::hash`): eight 32-bit lanes, and sixteen 16-bit lanes for domains
+/// of at most `2¹⁶` elements, whose round words and shifts are 16 bits
+/// narrower. Wrapping arithmetic, unsigned comparisons.
+pub(crate) trait IntLane:
+    Copy
+    + Add<Output = Self>
+    + Mul<Output = Self>
+    + Shr<u32, Output = Self>
+    + Shl<u32, Output = Self>
+    + BitAnd<Output = Self>
+    + BitOr<Output = Self>
+    + BitXorAssign
+{
+    /// Bits the lanes lack against 32 (0 or 16).
+    const NARROWER: u32;
+    /// `v` in every lane (truncated to the lane width).
+    fn splat(v: u32) -> Self;
+    /// Lane-wise unsigned `self ≥ o`, as a mask.
+    fn ge(self, o: Self) -> Self;
+    /// Any lane of a mask set.
+    fn any(self) -> bool;
+    /// Lane-wise `mask ? t : f`.
+    fn select(mask: Self, t: Self, f: Self) -> Self;
+}
+
+macro_rules! int_lane {
+    ($t:ty, $narrower:expr, $scalar:ty) => {
+        impl IntLane for $t {
+            const NARROWER: u32 = $narrower;
+            #[inline(always)]
+            fn splat(v: u32) -> Self {
+                <$t>::splat(v as $scalar)
+            }
+            #[inline(always)]
+            fn ge(self, o: Self) -> Self {
+                self.simd_ge(o)
+            }
+            #[inline(always)]
+            fn any(self) -> bool {
+                <$t>::any(self)
+            }
+            #[inline(always)]
+            fn select(mask: Self, t: Self, f: Self) -> Self {
+                mask.select(t, f)
+            }
+        }
+    };
+}
+int_lane!(u32x8, 0, u32);
+int_lane!(u16x16, 16, u16);
 
 #[cfg(test)]
 mod tests {

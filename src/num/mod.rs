@@ -9,7 +9,8 @@
 //!   `libm`'s (which are never inlined without link-time optimisation).
 //! * [`torus`]: wrapping onto the unit torus `[0, 1)` and toroidal differences.
 //! * `lane` (crate-private): the one SIMD lane abstraction behind every `f32`
-//!   and `f64` batch kernel (scalar reference path and `wide` vectors).
+//!   and `f64` batch kernel (scalar reference path and `wide` vectors), and
+//!   the integer lanes of the hash permutations.
 //!
 //! The error bounds stated here are tested against exact rational and exact
 //! integer arithmetic (`tests/num.rs`), not against these functions

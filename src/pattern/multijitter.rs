@@ -25,8 +25,8 @@ use super::sealed::{Generate, Sink};
 use super::{check_n, Strata, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{
-    apply16, apply4_with, key_word_x8, permute, rotation_x16, rotation_x8, widen, PermuteX8, Shape,
-    KEY_WORDS, ROTATION, SMALL_DOMAIN,
+    apply16, apply_with, in_sixteen_bits, key_word_x8, narrow_words_x8, permute, rotation_x8,
+    widen, PermuteX8, Shape, KEY_WORDS, ROTATION, SMALL_DOMAIN,
 };
 use crate::rng::{Counter, Seed};
 use wide::{u16x16, u32x8};
@@ -88,8 +88,7 @@ impl Grid {
     }
 
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        let narrow = |n: u32| n > SMALL_DOMAIN && Shape::new(n).narrow();
-        if !self.correlated && narrow(self.rows) && narrow(self.cols) {
+        if !self.correlated && in_sixteen_bits(self.rows) && in_sixteen_bits(self.cols) {
             self.gen_mj16(seed, first, sink);
         } else {
             self.gen_tiled(seed, first, sink);
@@ -113,8 +112,10 @@ impl Grid {
         let axis = Strata::new(self.cols * self.rows);
         let (row_shape, col_shape) = (Shape::new(self.rows), Shape::new(self.cols));
         let end = first + len;
-        // Padded by 32 lanes: a group's second vector starts at most
-        // MJ_TILE + 8 (eight past the last in-range block) and reads 16.
+        // Padded by 8·GROUP lanes: a group starts at an in-range block (at
+        // most column MJ_TILE − 8 of the tile); its last vector of sixteen
+        // starts 8·GROUP − 16 further and reads 16, ending before
+        // MJ_TILE + 8·GROUP.
         let mut xw = [[0u16; MJ_TILE + 8 * GROUP]; KEY_WORDS];
         let mut yw = [[0u16; TILE]; KEY_WORDS];
         let lane = u32x8::new(core::array::from_fn(|l| l as u32));
@@ -168,11 +169,11 @@ impl Grid {
                         (u16x16::splat((i0 + 16 * c as u32) as u16) + lane16).min(ymax)
                     });
                     let py = apply16(&col_shape, iy, |_, w| u16x16::splat(yw[w][jj]));
+                    let (px, py) = (px.map(widen), py.map(widen));
                     for v in 0..g {
                         let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
-                        let (pxv, pyv) = (widen(px[v / 2])[v % 2], widen(py[v / 2])[v % 2]);
-                        let x = axis.point_x8(vi * vn + pxv, bx.next_u32x8());
-                        let y = axis.point_x8(vrow + pyv, by.next_u32x8());
+                        let x = axis.point_x8(vi * vn + px[v / 2][v % 2], bx.next_u32x8());
+                        let y = axis.point_x8(vrow + py[v / 2][v % 2], by.next_u32x8());
                         sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
                     }
                     b += g;
@@ -293,7 +294,7 @@ impl Grid {
                         // π_x's input is the row index, valid in every lane,
                         // so all four vectors run even when fewer are in range.
                         let px: [u32x8; 4] = if self.rows > SMALL_DOMAIN {
-                            apply4_with(&row_shape, [vj; 4], col_word)
+                            apply_with(&row_shape, [vj; 4], col_word)
                         } else {
                             core::array::from_fn(|v| {
                                 PermuteX8::new(self.rows, vkx + vis[v] * vstep).apply(vj)
@@ -432,18 +433,13 @@ const TILE: usize = 256;
 const MJ_TILE: usize = 64;
 
 /// Key words of eight permutations of a narrow domain `s` (lane keys
-/// `keys`) into columns `t..t + 8` of `table`, as
-/// [`crate::hash::apply16`] reads them: the top halves of the round words,
-/// and at [`ROTATION`] `d = (n − c) mod 2¹⁶`.
+/// `keys`, [`crate::hash::narrow_words_x8`]) into columns `t..t + 8` of
+/// `table`.
 fn tabulate16<const W: usize>(s: &Shape, keys: u32x8, table: &mut [[u16; W]; KEY_WORDS], t: usize) {
-    for w in 0..s.round_words() {
-        let a = (key_word_x8(keys, w, s) >> 16u32).to_array();
-        for (d, &x) in table[w][t..t + 8].iter_mut().zip(&a) {
-            *d = x as u16;
-        }
+    let words = narrow_words_x8(keys, s);
+    for w in (0..s.round_words()).chain([ROTATION]) {
+        table[w][t..t + 8].copy_from_slice(&words[w]);
     }
-    let d = rotation_x16(s, rotation_x8(keys, s.n()), u32x8::ZERO).to_array();
-    table[ROTATION][t..t + 8].copy_from_slice(&d[..8]);
 }
 
 /// `t[v] = π(start + v)` for `v < count` (`count ≤ TILE`), 32 at a time. The

@@ -3,7 +3,7 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive32, put_flat, Aos, Strata, StrataX8, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{apply16, permute, widen, PermuteX16, PermuteX8, Shape, SMALL_DOMAIN};
+use crate::hash::{apply16, in_sixteen_bits, permute, widen, PermuteX16, PermuteX8, Shape};
 use crate::rng::{CounterX8, Seed};
 use wide::{f32x8, u16x16, u32x8};
 
@@ -43,11 +43,35 @@ impl<const D: usize> NRooks<D> {
     /// The flat (point-major) path: a chunk of `K` vectors (`K/D` blocks of 8
     /// points) holds consecutive stream outputs; lane `l` of vector `w` holds
     /// axis `(8w + l) mod D` of point `⌊(8w + l)/D⌋` of the chunk, so each
-    /// vector permutes with per-lane axis keys (four chains at a time,
-    /// [`PermuteX8::apply4`]) and is stored whole.
+    /// vector permutes with per-lane axis keys and is stored whole.
+    /// `cells(k)` gives the chunk's `K` vectors of strata (as `f32`) when its
+    /// first point is `k`; the points past the last whole chunk go through
+    /// the scalar path.
     #[inline(always)]
-    fn gen_flat<const K: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
-        let key = seed.counter(PURPOSE);
+    fn gen_flat<const K: usize>(
+        &self,
+        seed: Seed,
+        first: u64,
+        flat: &mut [f32],
+        mut cells: impl FnMut(u64) -> [f32x8; K],
+    ) {
+        let sx = [StrataX8::new([Strata::new(self.n); 8]); K];
+        let per_chunk = 8 * K / D; // points
+        let chunks = flat.len() / (8 * K);
+        let mut lanes = seed.counter(PURPOSE).lanes(first * D as u64, 1);
+        lanes.chunks::<K>(chunks, |b, bits| {
+            let c = cells(first + (per_chunk * b) as u64);
+            put_flat(&sx, &c, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
+        });
+        let done = per_chunk * chunks;
+        let (points, _) = flat.as_chunks_mut::<D>();
+        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
+    }
+
+    /// [`NRooks::gen_flat`] in 32-bit lanes, four chains at a time
+    /// ([`PermuteX8::apply4`]).
+    #[inline(always)]
+    fn gen_flat32<const K: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
         let keys = Self::keys(seed);
         let perms: [PermuteX8; D] = core::array::from_fn(|v| {
             PermuteX8::new(
@@ -58,51 +82,31 @@ impl<const D: usize> NRooks<D> {
         let offs: [u32x8; K] = core::array::from_fn(|w| {
             u32x8::new(core::array::from_fn(|l| ((8 * w + l) / D) as u32))
         });
-        let sx = [StrataX8::new([Strata::new(self.n); 8]); K];
-        let per_chunk = 8 * K / D; // points
-        let chunks = flat.len() / (8 * K);
-        let mut lanes = key.lanes(first * D as u64, 1);
-        lanes.chunks::<K>(chunks, |b, bits| {
+        self.gen_flat::<K>(seed, first, flat, |k| {
             // Every lane is a point of the range, so below n.
-            let k0 = u32x8::splat((first + (per_chunk * b) as u64) as u32);
+            let k0 = u32x8::splat(k as u32);
             let mut cells = [f32x8::ZERO; K];
             for g in (0..K).step_by(4) {
                 // Pads (w ≥ K) repeat vector g: valid input, result unused.
                 let w = |i: usize| if g + i < K { g + i } else { g };
                 let c = PermuteX8::apply4(
-                    [
-                        &perms[w(0) % D],
-                        &perms[w(1) % D],
-                        &perms[w(2) % D],
-                        &perms[w(3) % D],
-                    ],
-                    [
-                        k0 + offs[w(0)],
-                        k0 + offs[w(1)],
-                        k0 + offs[w(2)],
-                        k0 + offs[w(3)],
-                    ],
+                    core::array::from_fn(|i| &perms[w(i) % D]),
+                    core::array::from_fn(|i| k0 + offs[w(i)]),
                 );
                 for i in 0..4.min(K - g) {
                     cells[g + i] = f32x8::from_i32x8(bytemuck::cast(c[i]));
                 }
             }
-            put_flat(&sx, &cells, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
+            cells
         });
-        let done = per_chunk * chunks;
-        let (points, _) = flat.as_chunks_mut::<D>();
-        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
     }
-}
 
-impl<const D: usize> NRooks<D> {
     /// [`NRooks::gen_flat`] for narrow domains (`16 < n ≤ 2¹⁶`): the
     /// permutations run in sixteen 16-bit lanes ([`crate::hash::apply16`]),
     /// `H = K/2` vectors interleaved. Same values.
     #[inline(always)]
     fn gen_flat16<const K: usize, const H: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
         debug_assert_eq!(K, 2 * H);
-        let key = seed.counter(PURPOSE);
         let keys = Self::keys(seed);
         let shape = Shape::new(self.n);
         // Vector c of sixteen lanes holds flat coordinates 16c + l: axis
@@ -115,13 +119,9 @@ impl<const D: usize> NRooks<D> {
         let offs: [u16x16; H] = core::array::from_fn(|c| {
             u16x16::new(core::array::from_fn(|l| ((16 * c + l) / D) as u16))
         });
-        let sx = [StrataX8::new([Strata::new(self.n); 8]); K];
-        let per_chunk = 8 * K / D; // points
-        let chunks = flat.len() / (8 * K);
-        let mut lanes = key.lanes(first * D as u64, 1);
-        lanes.chunks::<K>(chunks, |b, bits| {
+        self.gen_flat::<K>(seed, first, flat, |k| {
             // Point indices are below n ≤ 2¹⁶: they fit the lanes.
-            let k0 = u16x16::splat((first + (per_chunk * b) as u64) as u16);
+            let k0 = u16x16::splat(k as u16);
             let idx: [u16x16; H] = core::array::from_fn(|c| k0 + offs[c]);
             let out = apply16(&shape, idx, |c, w| perms[c % D].word(w));
             let mut cells = [f32x8::ZERO; K];
@@ -130,11 +130,8 @@ impl<const D: usize> NRooks<D> {
                 cells[2 * c] = f32x8::from_i32x8(bytemuck::cast(a));
                 cells[2 * c + 1] = f32x8::from_i32x8(bytemuck::cast(b));
             }
-            put_flat(&sx, &cells, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
+            cells
         });
-        let done = per_chunk * chunks;
-        let (points, _) = flat.as_chunks_mut::<D>();
-        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
     }
 }
 
@@ -151,12 +148,11 @@ impl<const D: usize> Generate<D> for NRooks<D> {
             // fastest of 3, 4, 6, 8 and 12 measured). 16-bit lanes (narrow
             // domains): 8 in 1D and 2D (four 16-lane chains; 8% faster than
             // 4 at 2D 65536), 12 in 3D.
-            let narrow = self.n > SMALL_DOMAIN && Shape::new(self.n).narrow();
-            match (D, narrow) {
+            match (D, in_sixteen_bits(self.n)) {
                 (1 | 2, true) => self.gen_flat16::<8, 4>(seed, first, flat),
                 (_, true) => self.gen_flat16::<12, 6>(seed, first, flat),
-                (1 | 2, false) => self.gen_flat::<4>(seed, first, flat),
-                _ => self.gen_flat::<12>(seed, first, flat),
+                (1 | 2, false) => self.gen_flat32::<4>(seed, first, flat),
+                _ => self.gen_flat32::<12>(seed, first, flat),
             }
             return;
         }
