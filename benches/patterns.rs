@@ -1,8 +1,11 @@
 //! Points per second for every sampler, 2D and 3D, N = 4096 and 65536, SIMD and
-//! scalar paths, next to two baselines measured in the same run:
+//! scalar paths, next to baselines measured in the same run:
 //! * `sobol_burley` (Owen-scrambled Sobol, Burley 2020) generating the same
 //!   number of points (one `sample(i, dim, seed)` per coordinate);
-//! * a plain memory fill of the same number of bytes (the physical limit);
+//! * a plain memory fill of the same number of bytes (the physical limit; the
+//!   C library's `memset`, which picks its own vector width), and the same
+//!   bytes written by a loop of `f32x8` stores in this build (what the
+//!   generators' stores alone cost);
 //! * two scalar generator crates filling the same `f32` buffer with uniform
 //!   numbers, as `Random` does: `rand_xoshiro`'s Xoshiro128+ (`next_u32`, top 24
 //!   bits scaled, our conversion) and `fastrand` (`Rng::f32`).
@@ -112,6 +115,19 @@ fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Samplers<D>) 
             b.iter(|| {
                 bytes.fill(black_box(0x3f));
                 black_box(&mut bytes);
+            })
+        });
+        // The generators' own store pattern with nothing to compute: one
+        // `f32x8` store per eight coordinates, in this build's vector width.
+        g.bench_function("baseline/store_f32x8", |b| {
+            b.iter(|| {
+                let v = wide::f32x8::splat(black_box(0.5)).to_array();
+                let (chunks, tail) = out.as_flattened_mut().as_chunks_mut::<8>();
+                for c in chunks {
+                    *c = v;
+                }
+                tail.fill(v[0]);
+                black_box(&mut out);
             })
         });
         g.finish();
