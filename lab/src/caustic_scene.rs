@@ -57,7 +57,7 @@ use linesample::world::Sphere;
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::scene::{Ctx, SceneError, SceneSampler};
+use crate::scene::{Ctx, EffectKind, SceneError, SceneSampler};
 
 /// The `[effect] kind` of a volumetric-caustic scene.
 pub const KIND_NAME: &str = "volumetric-caustic";
@@ -112,7 +112,9 @@ struct Raw {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawEffect {
-    kind: Spanned<String>,
+    /// Checked first, by [`crate::scene::effect_kind`].
+    #[serde(rename = "kind")]
+    _kind: serde::de::IgnoredAny,
     dims: Spanned<i64>,
 }
 
@@ -164,20 +166,6 @@ struct RawEstimators {
     samplers: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
-/// Whether the scene text asks for a volumetric caustic (`[effect] kind`),
-/// so the `scene` command reads it with [`parse`] rather than as a
-/// camera scene. A text that does not parse says no (the camera-scene
-/// reader then reports the syntax error).
-#[must_use]
-pub fn is_caustic(text: &str) -> bool {
-    text.parse::<toml::Table>().is_ok_and(|t| {
-        t.get("effect")
-            .and_then(|e| e.get("kind"))
-            .and_then(|k| k.as_str())
-            == Some(KIND_NAME)
-    })
-}
-
 fn vector(
     ctx: &Ctx<'_>,
     field: &str,
@@ -222,20 +210,16 @@ fn positive(ctx: &Ctx<'_>, field: &str, v: &Spanned<f64>) -> Result<f64, SceneEr
 /// A [`SceneError`] naming the file, line, column and field.
 pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
     let ctx = Ctx { path, text };
-    if let Err(e) = text.parse::<toml::Table>() {
-        let mut err = ctx.toml_error(&e);
-        err.field = "TOML syntax".into();
-        return Err(err);
+    let kind = crate::scene::effect_kind(path, text)?;
+    if kind != EffectKind::VolumetricCaustic {
+        return Err(ctx.at(
+            0..0,
+            "effect.kind",
+            format!("expected '{KIND_NAME}', got '{}'", kind.name()),
+        ));
     }
     let raw: Raw = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
     let e = raw.effect.get_ref();
-    if e.kind.get_ref() != KIND_NAME {
-        return Err(ctx.at(
-            e.kind.span(),
-            "effect.kind",
-            format!("expected '{KIND_NAME}', got '{}'", e.kind.get_ref()),
-        ));
-    }
     let dims = match *e.dims.get_ref() {
         2 => 2,
         3 => 3,

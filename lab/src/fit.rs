@@ -21,6 +21,43 @@ impl Fit {
     pub fn x_at(&self, y: f64) -> f64 {
         ((y.ln() - self.intercept) / self.slope).exp()
     }
+
+    /// Whether the fit shows convergence: the slope's 95 % interval,
+    /// `b + 1.96·se`, lies below 0.
+    #[must_use]
+    pub fn converges(&self) -> bool {
+        self.slope + 1.96 * self.slope_se < 0.0
+    }
+
+    /// The `N` at which the fitted variance reaches `target` (at least 1),
+    /// or `None` when the fit does not show convergence ([`Fit::converges`]):
+    /// a flat or growing variance reaches no target, and extrapolating it
+    /// (`x_at` of a positive slope is below the measured range) would print
+    /// a time that means nothing.
+    #[must_use]
+    pub fn n_to(&self, target: f64) -> Option<f64> {
+        (self.converges() && target > 0.0 && target.is_finite()).then(|| self.x_at(target).max(1.0))
+    }
+}
+
+/// The `N` at which the fitted variance of `fit` reaches `target`, or NaN
+/// when there is no fit or it does not converge ([`Fit::n_to`]); the form
+/// the CSVs and reports print (an empty or `NaN` field, never a number).
+#[must_use]
+pub fn n_to_target(fit: Option<&Fit>, target: f64) -> f64 {
+    fit.and_then(|f| f.n_to(target)).unwrap_or(f64::NAN)
+}
+
+/// A time or a count read off a convergence fit, in scientific notation with
+/// `digits` decimals, or `no convergence` where the fit gave none (NaN: its
+/// slope's 95 % interval does not lie below 0).
+#[must_use]
+pub fn fit_sci(v: f64, digits: usize) -> String {
+    if v.is_finite() {
+        format!("{v:.digits$e}")
+    } else {
+        "no convergence".into()
+    }
 }
 
 /// The slope between the last two points, `ln(y_m/y_{m−1})/ln(x_m/x_{m−1})`;
@@ -80,6 +117,36 @@ pub fn fit_loglog(data: &[(f64, f64, f64)]) -> Option<Fit> {
 mod tests {
     use super::*;
 
+    /// A variance that does not fall reaches no target: no N, no time
+    /// (the scene studies printed N = 1 and a time of 2e-7 s for a row
+    /// whose slope was +0.18).
+    #[test]
+    fn a_fit_that_does_not_converge_has_no_n_to_a_target() {
+        let rising: Vec<(f64, f64, f64)> = [16.0, 64.0, 256.0, 1024.0]
+            .iter()
+            .map(|&n: &f64| (n, 1e-3 * n.powf(0.18), 1e-5 * n.powf(0.18)))
+            .collect();
+        let f = fit_loglog(&rising).unwrap();
+        assert!(f.slope > 0.1 && !f.converges(), "{f:?}");
+        assert_eq!(f.n_to(1e-6), None);
+        assert!(n_to_target(Some(&f), 1e-6).is_nan());
+        assert!(n_to_target(None, 1e-6).is_nan());
+        // A slope of -0.02 with a wide interval is not convergence either.
+        let flat: Vec<(f64, f64, f64)> = [16.0, 64.0]
+            .iter()
+            .map(|&n: &f64| (n, 1e-3 * n.powf(-0.02), 0.5e-3))
+            .collect();
+        let f = fit_loglog(&flat).unwrap();
+        assert!(f.slope < 0.0 && !f.converges(), "{f:?}");
+        assert_eq!(f.n_to(1e-6), None);
+        // A converging fit already below the target at N = 1 reads N = 1.
+        let fast: Vec<(f64, f64, f64)> = [16.0, 64.0, 256.0]
+            .iter()
+            .map(|&n: &f64| (n, 1e-9 * n.powf(-2.0), 1e-11 * n.powf(-2.0)))
+            .collect();
+        assert_eq!(fit_loglog(&fast).unwrap().n_to(1e-6), Some(1.0));
+    }
+
     #[test]
     fn fit_recovers_a_power_law() {
         let data: Vec<(f64, f64, f64)> = [16.0, 64.0, 256.0, 1024.0]
@@ -97,6 +164,7 @@ mod tests {
         assert!((f.slope_se - 0.1 / sxx.sqrt()).abs() < 1e-12);
         assert!((f.x_at(3.0 * 256f64.powf(-1.5)) - 256.0).abs() < 1e-9);
         assert!((last_slope(&data) + 1.5).abs() < 1e-12);
+        assert_eq!(f.n_to(3.0 * 256f64.powf(-1.5)).map(f64::round), Some(256.0));
         assert!(last_slope(&data[..1]).is_nan());
         // Unusable points are skipped.
         assert!(fit_loglog(&[(16.0, 1.0, 0.1), (64.0, 0.0, 0.1)]).is_none());

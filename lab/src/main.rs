@@ -6,13 +6,24 @@ use std::process::ExitCode;
 
 use clap::Parser;
 use linesample_lab::cli::{dispatch, Cli};
+use linesample_lab::runner::stop;
 
 fn main() -> ExitCode {
-    match dispatch(Cli::parse()) {
+    let cli = Cli::parse();
+    if let Err(msg) = stop::install() {
+        linesample_lab::err!("error: {msg}");
+        return ExitCode::FAILURE;
+    }
+    match dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(msg) => {
             linesample_lab::err!("error: {msg}");
-            ExitCode::FAILURE
+            // A run stopped by a signal exits as the shell reports a process
+            // killed by it (128 + the signal number).
+            match stop::requested() {
+                Some(sig) => ExitCode::from(u8::try_from(128 + sig).unwrap_or(1)),
+                None => ExitCode::FAILURE,
+            }
         }
     }
 }

@@ -492,6 +492,102 @@ struct RawEstimators {
     orientations: Option<Spanned<Vec<Spanned<String>>>>,
 }
 
+/// The effect a scene file asks for: its `[effect] kind`, the one field
+/// every scene file has and the one that decides how the rest is read.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EffectKind {
+    /// `ambient-occlusion`.
+    AmbientOcclusion,
+    /// `direct-light`.
+    DirectLight,
+    /// `volumetric-caustic` (read by [`crate::caustic_scene`]).
+    VolumetricCaustic,
+}
+
+impl EffectKind {
+    /// Every effect, in the order error messages list them.
+    pub const ALL: [EffectKind; 3] = [
+        EffectKind::AmbientOcclusion,
+        EffectKind::DirectLight,
+        EffectKind::VolumetricCaustic,
+    ];
+
+    /// The name in scene files.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            EffectKind::AmbientOcclusion => "ambient-occlusion",
+            EffectKind::DirectLight => "direct-light",
+            EffectKind::VolumetricCaustic => "volumetric-caustic",
+        }
+    }
+
+    /// `ambient-occlusion, direct-light, volumetric-caustic`.
+    #[must_use]
+    pub fn known() -> String {
+        Self::ALL.map(Self::name).join(", ")
+    }
+}
+
+#[derive(Deserialize)]
+struct KindHead {
+    effect: Option<Spanned<KindEffect>>,
+}
+
+#[derive(Deserialize)]
+struct KindEffect {
+    kind: Option<Spanned<toml::Value>>,
+}
+
+/// Reads `[effect] kind` alone, before any other field is looked at, so that
+/// a misspelt kind is reported as such (not as the first field the wrong
+/// reader does not know).
+///
+/// # Errors
+/// A TOML syntax error, no `[effect]` table or no `kind`, a kind that is
+/// not a string, or an unknown kind (the message lists the known ones).
+pub fn effect_kind(path: &Path, text: &str) -> Result<EffectKind, SceneError> {
+    let ctx = Ctx { path, text };
+    if let Err(e) = text.parse::<toml::Table>() {
+        let mut err = ctx.toml_error(&e);
+        err.field = "TOML syntax".into();
+        return Err(err);
+    }
+    let head: KindHead = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+    let known = EffectKind::known();
+    let Some(effect) = head.effect else {
+        return Err(ctx.at(
+            0..0,
+            "effect",
+            format!("missing: the scene needs an [effect] table with a kind (one of {known})"),
+        ));
+    };
+    let Some(kind) = &effect.get_ref().kind else {
+        return Err(ctx.at(
+            effect.span(),
+            "effect.kind",
+            format!("missing (one of {known})"),
+        ));
+    };
+    let Some(name) = kind.get_ref().as_str() else {
+        return Err(ctx.at(
+            kind.span(),
+            "effect.kind",
+            format!("must be a string, one of {known}"),
+        ));
+    };
+    EffectKind::ALL
+        .into_iter()
+        .find(|k| k.name() == name)
+        .ok_or_else(|| {
+            ctx.at(
+                kind.span(),
+                "effect.kind",
+                format!("unknown effect '{name}' (known: {known})"),
+            )
+        })
+}
+
 /// Reads and checks a scene file.
 ///
 /// # Errors
@@ -513,11 +609,14 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
 /// A [`SceneError`] naming the file, line, column and field.
 pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     let ctx = Ctx { path, text };
-    // Syntax first (its errors name no field), then the structure.
-    if let Err(e) = text.parse::<toml::Table>() {
-        let mut err = ctx.toml_error(&e);
-        err.field = "TOML syntax".into();
-        return Err(err);
+    // Syntax and the effect's kind first (their errors name no other
+    // field), then the structure.
+    if effect_kind(path, text)? == EffectKind::VolumetricCaustic {
+        return Err(ctx.at(
+            0..0,
+            "effect.kind",
+            "a volumetric-caustic scene has no camera: read it with caustic_scene::parse".into(),
+        ));
     }
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
 
@@ -721,7 +820,7 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
             return Err(ctx.at(
                 e.kind.span(),
                 "effect.kind",
-                format!("unknown effect '{other}' (known: ambient-occlusion, direct-light)"),
+                format!("unknown effect '{other}' (known: {})", EffectKind::known()),
             ))
         }
     };

@@ -173,6 +173,27 @@ fn bad_scene_files_give_one_clean_error() {
         fails_with(&o, field, field);
         assert!(!dir.path().join("x").join("caustics.csv").exists());
     }
+    // A misspelt kind is reported as such, with every known effect listed
+    // (it was read as a camera scene and reported the unrelated `dims`).
+    let path = dir.path().join("typo.toml");
+    fs::write(
+        &path,
+        two.replacen(
+            "kind = \"volumetric-caustic\"",
+            "kind = \"volumetric-caustics\"",
+            1,
+        ),
+    )
+    .unwrap();
+    let o = lab(&dir, &["scene", path.to_str().unwrap(), "--out", "t"]);
+    fails_with(&o, "effect.kind", "a misspelt kind");
+    let err = stderr(&o);
+    assert!(
+        err.contains("unknown effect 'volumetric-caustics'")
+            && err.contains("ambient-occlusion, direct-light, volumetric-caustic")
+            && !err.contains("dims"),
+        "{err}"
+    );
     let file = scene_file(2).display().to_string();
     let o = lab(&dir, &["scene", &file, "--pixel", "3,4", "--out", "p"]);
     fails_with(&o, "--pixel", "--pixel on a caustic scene");

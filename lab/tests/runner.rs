@@ -227,10 +227,27 @@ fn interrupted_run_resumes(signal: &str) {
     let status = child.wait().unwrap();
     assert!(
         !status.success(),
-        "the run finished before the signal: {status:?} (with SIGINT, check that \
-         the tests do not run with SIGINT ignored, as background jobs of a \
-         non-interactive shell do: the child inherits that)"
+        "the run finished before the signal: {status:?}"
     );
+    if signal != "KILL" {
+        // A handled signal: one clear line, and the shell's exit code for
+        // a process stopped by it.
+        use std::os::unix::process::ExitStatusExt;
+        let code = if signal == "TERM" { 143 } else { 130 };
+        assert_eq!(status.code(), Some(code), "{status:?}");
+        assert_eq!(
+            status.signal(),
+            None,
+            "killed instead of stopping: {status:?}"
+        );
+        let mut err = String::new();
+        std::io::Read::read_to_string(child.stderr.as_mut().unwrap(), &mut err).unwrap();
+        let name = format!("stopped by SIG{signal}: ");
+        assert!(
+            err.contains(&name) && err.contains("run the same command again to resume"),
+            "{err}"
+        );
+    }
     let done = cells(&dir, "run.state").len();
     assert!((1..20).contains(&done), "{done} cells at the signal");
     assert!(
@@ -270,6 +287,15 @@ fn killed_run_resumes_to_the_uninterrupted_result() {
     interrupted_run_resumes("KILL");
 }
 
+/// SIGTERM (what Slurm, `timeout` and systemd send) stops the run cleanly.
+#[test]
+fn terminated_run_resumes_to_the_uninterrupted_result() {
+    interrupted_run_resumes("TERM");
+}
+
+/// SIGINT stops it the same way, even when the test runs as a background
+/// job of a non-interactive shell (which starts its children with SIGINT
+/// ignored: the lab installs its own handler).
 #[test]
 fn interrupted_run_resumes_to_the_uninterrupted_result() {
     interrupted_run_resumes("INT");

@@ -239,7 +239,10 @@ fn unknown_effect_and_names() {
         &with_line(17, "kind = \"caustics\""),
         17,
         "effect.kind",
-        &["unknown effect", "ambient-occlusion"],
+        &[
+            "unknown effect 'caustics'",
+            "ambient-occlusion, direct-light, volumetric-caustic",
+        ],
     );
     fails(&with_line(18, ""), 16, "effect.max-distance", &["missing"]);
     let est = "\n[estimators]\nsamplers = [\"random\", \"halton\"]\n";

@@ -46,7 +46,7 @@ use crate::cli::{MergeArgs, SceneArgs};
 use crate::experiments::scene::rgb_png;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::{fit_loglog, last_slope};
+use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
@@ -563,7 +563,7 @@ pub fn complete_study(
         let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
         let slope_all = fit_loglog(&pts).map_or(f64::NAN, |f| f.slope);
         let last = last_slope(&pts);
-        let n1 = fit.map_or(f64::NAN, |f| f.x_at((0.01 * rv).powi(2)).max(1.0));
+        let n1 = n_to_target(fit.as_ref(), (0.01 * rv).powi(2));
         let t1 = n1 * secs[m - 1] / pts[m - 1].0;
         let n_mid = (tail.iter().map(|p| p.0.ln()).sum::<f64>() / tail.len() as f64).exp();
         let exp_slope = expected(dims, est, sampler).map_or(f64::NAN, |x| x.0);
@@ -577,9 +577,11 @@ pub fn complete_study(
         let _ = writeln!(
             text,
             "  {label:<18} slope {slope:+.2} [{:+.2}, {:+.2}] (expected {exp_text})  \
-             all N {slope_all:+.2}  max |z| {zmax:.2}  1 %: N ≈ {n1:.3e}, {t1:.2e} s",
+             all N {slope_all:+.2}  max |z| {zmax:.2}  1 %: N ≈ {}, {} s",
             slope - 1.96 * se,
             slope + 1.96 * se,
+            fit_sci(n1, 3),
+            fit_sci(t1, 2),
         );
         slopes.push(SlopeRow {
             dims,

@@ -48,7 +48,7 @@ use crate::cli::{MergeArgs, SceneArgs};
 use crate::experiments::scene::{rgb_png, SceneSource};
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::{fit_loglog, last_slope};
+use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
@@ -1667,16 +1667,15 @@ pub fn complete_pixels(
             let m = pts.len();
             let last = last_slope(&pts);
             // Time to RMSE = 1 % of E: N with var(N) = (0.01 E)², time ∝ N.
-            let t1 = fit.map_or(f64::NAN, |f| {
-                f.x_at((0.01 * rv).powi(2)).max(1.0) * secs[m - 1] / pts[m - 1].0
-            });
+            let t1 = n_to_target(fit.as_ref(), (0.01 * rv).powi(2)) * secs[m - 1] / pts[m - 1].0;
             let _ = writeln!(
                 text,
                 "  {:<30} slope {slope:+.2} [{:+.2}, {:+.2}]  last two N {last:+.2}  \
-                 time to 1 %: {t1:.2e} s",
+                 time to 1 %: {} s",
                 est.label(),
                 slope - 1.96 * se,
-                slope + 1.96 * se
+                slope + 1.96 * se,
+                fit_sci(t1, 2)
             );
             slopes.push(SlopeRow {
                 pixel: label.clone(),

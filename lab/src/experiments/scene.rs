@@ -46,7 +46,7 @@ use crate::experiments::scene_theory;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::image::{self, Color};
 use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::fit_loglog;
+use crate::fit::{fit_loglog, fit_sci, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
@@ -1389,10 +1389,9 @@ pub fn complete_pixel(
         let last = rs
             .last()
             .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
-        let seconds_to_1pct = fit.map_or(f64::NAN, |f| {
-            // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b).
-            f.x_at((0.01 * reference.value).powi(2)).max(1.0) * last
-        });
+        // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b);
+        // NaN for a row whose fit does not converge.
+        let seconds_to_1pct = n_to_target(fit.as_ref(), (0.01 * reference.value).powi(2)) * last;
         let (last_slope, last_slope_se) = if nn >= 2 {
             let (a, b) = (&rs[nn - 2], &rs[nn - 1]);
             let l = (b.n as f64 / a.n as f64).ln();
@@ -1512,7 +1511,7 @@ pub fn complete_pixel(
         );
         for (s, &var_max) in slopes.iter().zip(&var_max) {
             crate::out!(
-                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:>11.3e} {:>10.2e}  {}",
+                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:>11.3e} {:>10}  {}",
                 s.estimator,
                 s.slope,
                 s.ci95_low,
@@ -1527,7 +1526,7 @@ pub fn complete_pixel(
                     )
                 },
                 var_max,
-                s.seconds_to_1pct,
+                fit_sci(s.seconds_to_1pct, 2),
                 s.theory_note
             );
         }
@@ -1793,10 +1792,12 @@ fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec
 /// # Errors
 /// A scene file error (file, line, field), a bad option, or a run error.
 pub fn main(a: &SceneArgs) -> Result<(), String> {
-    if let Ok(text) = std::fs::read_to_string(&a.file) {
-        if crate::caustic_scene::is_caustic(&text) {
-            return crate::experiments::caustic::main(a, text);
-        }
+    let text = std::fs::read_to_string(&a.file)
+        .map_err(|e| format!("{}: cannot read it: {e}", a.file.display()))?;
+    if crate::scene::effect_kind(&a.file, &text).map_err(|e| e.to_string())?
+        == crate::scene::EffectKind::VolumetricCaustic
+    {
+        return crate::experiments::caustic::main(a, text);
     }
     let (source, scene) = read_source(&a.file)?;
     if scene.effect == Effect::DirectLight {

@@ -12,8 +12,9 @@
 //! * writes every finished cell atomically into the state folder
 //!   `OUT.state/` ([`state`]) with its accumulator state, and on a rerun of the
 //!   same command skips the cells already there (`--fresh` starts over; a
-//!   different configuration is refused): Ctrl-C or a kill loses at most the
-//!   cells in flight;
+//!   different configuration is refused): SIGINT (Ctrl-C) or SIGTERM stops
+//!   the run within one chunk of realisations, keeping every finished cell
+//!   ([`stop`]), and even a kill loses at most the cells in flight;
 //! * with `--shard i/n` computes only the cells `c` with `c mod n = i − 1`;
 //!   [`merge`] later gathers the shards' cells into one complete state, from
 //!   which the experiment writes exactly the files an unsharded run writes
@@ -23,6 +24,7 @@
 pub mod progress;
 pub mod shard;
 pub mod state;
+pub mod stop;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -118,7 +120,13 @@ impl Ctx<'_> {
         count: usize,
         f: impl Fn(usize) -> Result<T, String> + Sync + Send,
     ) -> Result<Vec<T>, String> {
-        (0..count).into_par_iter().map(f).collect()
+        (0..count)
+            .into_par_iter()
+            .map(|i| {
+                stop::check()?;
+                f(i)
+            })
+            .collect()
     }
 
     /// Realisations `0 … total − 1` of one estimator, in chunks of `chunk`
@@ -312,6 +320,7 @@ pub fn run<E: Experiment>(
     let work: u64 = todo.iter().map(|&i| cells[i].work).sum();
     let progress = Progress::new(work, E::UNIT, mine.len(), resumed, !opts.quiet);
     let one = |i: usize| -> Result<Stored<E::Cell>, String> {
+        stop::check()?;
         let t = Instant::now();
         let cell = exp.run_cell(
             i,
@@ -332,6 +341,16 @@ pub fn run<E: Experiment>(
     progress.finish();
     let computed = match computed {
         Ok(c) => c,
+        Err(_) if stop::requested().is_some() => {
+            let sig = stop::requested().map_or_else(String::new, stop::signal_name);
+            let stored = dir.cell_indices().map_or(0, |v| v.len());
+            return Err(format!(
+                "stopped by {sig}: {stored} of {} cell(s) are stored in {}; run the same \
+                 command again to resume",
+                mine.len(),
+                dir.path().display()
+            ));
+        }
         Err(e) => {
             // A first run that failed before any cell leaves no state behind,
             // so that a corrected command is not refused as a "different run".

@@ -9,6 +9,7 @@ use serde_json::Value;
 
 use super::esc;
 use crate::experiments::caustic::{consistent, expected, Estimator, SLOPE_SLACK};
+use crate::fit::fit_sci;
 use crate::scene::SceneSampler;
 
 fn parse_est(s: &str) -> Option<Estimator> {
@@ -160,9 +161,11 @@ pub(super) fn section_caustics(out_dir: &Path) -> Result<String, String> {
                 h,
                 "<tr><td>{dims}D</td><td>{}</td><td>{}</td>\
                  <td>{slope:+.2} [{lo:+.2}, {hi:+.2}]</td><td>{all:+.2}</td><td>{exp_text}</td>\
-                 <td>{verdict}</td><td>{zmax:.2}</td><td>{n1:.3e}</td><td>{t1:.2e}</td></tr>",
+                 <td>{verdict}</td><td>{zmax:.2}</td><td>{}</td><td>{}</td></tr>",
                 esc(&r[1]),
                 esc(&r[2]),
+                fit_sci(n1, 3),
+                fit_sci(t1, 2),
             );
         }
     }

@@ -9,6 +9,7 @@ use serde_json::Value;
 
 use super::esc;
 use crate::experiments::direct::CORNELL_SCENE_NAME;
+use crate::fit::fit_sci;
 
 /// Tolerance added to a slope's 95 % interval before it is called
 /// consistent with the expectation (as the other sections do).
@@ -250,10 +251,11 @@ pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
         let _ = write!(
             h,
             "<tr><td>{}</td><td>{}</td><td>{}</td><td>{slope:+.2} [{lo:+.2}, {hi:+.2}]</td>\
-             <td>{last:+.2}</td><td>{exp_text}</td><td>{verdict}</td><td>{t1:.2e}</td></tr>",
+             <td>{last:+.2}</td><td>{exp_text}</td><td>{verdict}</td><td>{}</td></tr>",
             esc(pixel),
             esc(est),
-            esc(sampler)
+            esc(sampler),
+            fit_sci(t1, 2)
         );
     }
     h.push_str(

@@ -9,6 +9,7 @@ use serde_json::Value;
 use super::esc;
 use crate::experiments::paper::plan::Mode;
 use crate::experiments::scene::{AO_SCENE_NAME, PAPER_PIXELS};
+use crate::fit::fit_sci;
 
 /// Tolerance added to a slope's 95 % interval before it is called
 /// consistent with the theory (as the rate tables do).
@@ -167,7 +168,7 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
             let _ = write!(
                 h,
                 "<tr><td>{}</td><td>{}–{}</td><td>{slope:.2} [{lo:.2}, {hi:.2}]</td><td>{}</td>\
-                 <td>{verdict}</td><td>{:.1}</td><td>{:.2e}</td><td>{}</td></tr>",
+                 <td>{verdict}</td><td>{:.1}</td><td>{}</td><td>{}</td></tr>",
                 esc(&text(&s["estimator"])),
                 s["n_min"],
                 s["n_max"],
@@ -177,7 +178,7 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
                     format!("N^{th}{}", if log { " log N" } else { "" })
                 },
                 num(&s["fit_chi2_dof"]),
-                num(&s["seconds_to_1pct"]),
+                fit_sci(num(&s["seconds_to_1pct"]), 2),
                 esc(&text(&s["theory_note"]))
             );
         }
