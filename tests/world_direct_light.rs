@@ -1381,3 +1381,58 @@ fn bad_input_is_rejected_with_the_parameter_name() {
         })
     );
 }
+
+/// `Shadow::misses` never drops a shadow that covers part of the light
+/// (checked on a 48 × 48 grid of light points, against shadow rays through
+/// each face), drops the room's walls' shadows, and keeps a panel's hung
+/// under the light.
+#[test]
+fn shadows_that_miss_the_light_are_recognised() {
+    let (light, _) = cornell_light();
+    let [l1, l2] = light.lengths();
+    let mut rng = Rng::new(41);
+    let (mut dropped, mut kept, mut walls_kept) = (0, 0, 0);
+    let panel = Face::new(
+        [-0.5, 1.9, -0.5],
+        [1.0, 0.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [0.0, -1.0, 0.0],
+        99,
+    );
+    for r in cornell_receivers(&mut rng) {
+        let mut faces = r.faces.clone();
+        faces.push(panel);
+        for f in &faces {
+            let Some(s) = Shadow::project(&light, r.x, &f.pg) else {
+                continue;
+            };
+            let blocks = (0..48 * 48).any(|k| {
+                let (a, b) = (
+                    l1 * (f64::from(k % 48) + 0.5) / 48.0,
+                    l2 * (f64::from(k / 48) + 0.5) / 48.0,
+                );
+                let y = add(
+                    light.corner(),
+                    add(scale(light.axes()[0], a), scale(light.axes()[1], b)),
+                );
+                segment_blocked(r.x, y, f)
+            });
+            if s.misses(&light) {
+                assert!(
+                    !blocks,
+                    "{}: a dropped shadow of body {} blocks",
+                    r.label, f.body
+                );
+                dropped += 1;
+            } else {
+                kept += 1;
+                walls_kept += usize::from(f.body >= 10 && f.body < 20);
+            }
+            if f.body == 99 && r.x[1] < 1.0 {
+                assert!(!s.misses(&light), "{}: the panel's shadow", r.label);
+            }
+        }
+    }
+    assert_eq!(walls_kept, 0, "a wall's shadow was kept");
+    assert!(dropped > 20 && kept > 20, "dropped {dropped}, kept {kept}");
+}

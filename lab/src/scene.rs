@@ -27,8 +27,9 @@
 //! samplers = ["random", "jittered", "multi-jittered", "cmj", "sobol"]
 //! ```
 //!
-//! A `direct-light` scene (`scenes/cornell-box.toml`) has walls, boxes and
-//! one rectangular light instead of spheres:
+//! A `direct-light` scene (`scenes/cornell-box.toml`) has quads (walls, or
+//! free-standing panels: every quad and box casts shadows), boxes and one
+//! rectangular light instead of spheres:
 //!
 //! ```toml
 //! [light]                       # emits towards edge1 × edge2

@@ -390,3 +390,53 @@ fn box_faces_point_outwards() {
         }
     }
 }
+
+/// A free-standing quad casts a shadow: a 1 × 1 panel just under the light
+/// hides all of it from the floor below (only boxes' faces were projected
+/// onto the light, so the floor stayed fully lit), from either side of the
+/// panel, while the walls (quads too) still cast none inside the room.
+#[test]
+fn a_free_standing_quad_casts_a_shadow() {
+    let path = scene_file();
+    let text = fs::read_to_string(&path).unwrap();
+    let floor_point = [-0.1, 0.0, -0.03];
+    let hidden = |extra: &str| {
+        let sc = scene::parse(&path, &format!("{text}\n{extra}")).unwrap();
+        let world = DlWorld::new(sc, 64, 64).unwrap();
+        // The floor is quad 0, occluder 0.
+        let px = world.surface_point(floor_point, [0.0, 1.0, 0.0], [0.73; 3], Some(0));
+        let h = world.hidden_fraction(&px, 64).unwrap();
+        let mut v = vec![[0.0f32; 2]; 64];
+        for (k, p) in v.iter_mut().enumerate() {
+            *p = [(k % 8) as f32 / 8.0 + 0.06, (k / 8) as f32 / 8.0 + 0.06];
+        }
+        let points = DlEstimator {
+            lines: None,
+            sampler: SceneSampler::Random,
+            simd: false,
+        };
+        let e = world
+            .estimate(&px, &points, &v, &mut Seed::new(1).pcg(2), &mut Vec::new())
+            .unwrap();
+        (h, e, px.shadows.len())
+    };
+    let (h0, e0, s0) = hidden("");
+    assert!(
+        h0 < 0.5 && e0 > 0.0,
+        "without the panel: hidden {h0}, E {e0}"
+    );
+    for (corner, e1, e2) in [
+        ("[-0.5, 1.9, -0.5]", "[1.0, 0.0, 0.0]", "[0.0, 0.0, 1.0]"),
+        ("[-0.5, 1.9, -0.5]", "[0.0, 0.0, 1.0]", "[1.0, 0.0, 0.0]"),
+    ] {
+        let panel = format!(
+            "[[quad]]\ncorner = {corner}\nedge1 = {e1}\nedge2 = {e2}\nalbedo = [0.5, 0.5, 0.5]\n"
+        );
+        let (h, e, s) = hidden(&panel);
+        assert!(
+            h > 1.0 - 1e-12 && e == 0.0,
+            "with the panel (edges {e1} {e2}): hidden {h}, E {e}"
+        );
+        assert_eq!(s, s0 + 1, "the panel's shadow and no wall's");
+    }
+}

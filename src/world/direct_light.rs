@@ -503,6 +503,24 @@ impl Shadow {
             .all(|p| p[0] * a + p[1] * b + p[2] >= 0.0)
     }
 
+    /// Whether the shadow certainly misses the light's rectangle
+    /// `[0, |e₁|] × [0, |e₂|]`: one of its half-planes leaves all four
+    /// corners strictly outside (`αa + βb + γ < 0` at each). Both sets are
+    /// convex, so such a half-plane separates them (the separating-axis
+    /// test over the shadow's own edges); `false` may still mean a shadow
+    /// that only grazes the light, never one that is dropped wrongly. A
+    /// renderer skips such shadows before preparing a receiver: a wall
+    /// beside the light, say, projects outside it.
+    #[must_use]
+    pub fn misses(&self, light: &QuadLight) -> bool {
+        let [l1, l2] = light.lengths();
+        self.planes().iter().any(|p| {
+            [(0.0, 0.0), (l1, 0.0), (0.0, l2), (l1, l2)]
+                .iter()
+                .all(|&(a, b)| p[0] * a + p[1] * b + p[2] < 0.0)
+        })
+    }
+
     /// The interval of `t ∈ [chord.t0, chord.t1]` whose points are inside the
     /// shadow, or `None`.
     #[must_use]

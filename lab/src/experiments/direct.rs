@@ -104,13 +104,24 @@ impl DlEstimator {
 }
 
 /// A surface of the scene: a parallelogram with a unit normal and albedo,
-/// and the box it belongs to (`None` for walls).
+/// and the occluder it belongs to (its index in [`DlWorld`]'s occluders).
 #[derive(Clone, Copy, Debug)]
 struct Surface {
     face: Parallelogram,
     normal: [f64; 3],
     albedo: [f64; 3],
     solid: Option<usize>,
+}
+
+/// An occluder: a box (convex: only its faces turned towards a point can
+/// shadow it, and never a point on the box itself) or a free-standing quad
+/// (two-sided: it shadows points on either side). Walls are quads: one
+/// never stands between a point of a convex room and a light on its
+/// boundary, and its shadow then misses the light ([`Shadow::misses`]).
+#[derive(Clone, Debug)]
+struct Occluder {
+    /// The faces, each with its unit outward normal (`None`: two-sided).
+    faces: Vec<(Parallelogram, Option<[f64; 3]>)>,
 }
 
 /// What a pixel sees.
@@ -144,8 +155,8 @@ pub struct DlWorld {
     scene: Scene,
     light: QuadLight,
     surfaces: Vec<Surface>,
-    /// Per box: its faces with unit outward normals.
-    boxes: Vec<Vec<(Parallelogram, [f64; 3])>>,
+    /// The quads, then the boxes, as occluders.
+    occluders: Vec<Occluder>,
 }
 
 impl DlWorld {
@@ -163,6 +174,7 @@ impl DlWorld {
         let light =
             QuadLight::new(l.corner, l.edge1, l.edge2).map_err(|e| format!("[light]: {e}"))?;
         let mut surfaces = Vec::new();
+        let mut occluders = Vec::new();
         for (i, q) in scene.quads.iter().enumerate() {
             let face = Parallelogram::new(q.corner, q.edge1, q.edge2)
                 .map_err(|e| format!("quad[{i}]: {e}"))?;
@@ -170,10 +182,12 @@ impl DlWorld {
                 face,
                 normal: unit(face.normal()),
                 albedo: q.albedo,
-                solid: None,
+                solid: Some(occluders.len()),
+            });
+            occluders.push(Occluder {
+                faces: vec![(face, None)],
             });
         }
-        let mut boxes = Vec::new();
         for (i, b) in scene.boxes.iter().enumerate() {
             let mut faces = Vec::new();
             for (c, e1, e2) in b.faces() {
@@ -183,17 +197,17 @@ impl DlWorld {
                     face,
                     normal,
                     albedo: b.albedo,
-                    solid: Some(i),
+                    solid: Some(occluders.len()),
                 });
-                faces.push((face, normal));
+                faces.push((face, Some(normal)));
             }
-            boxes.push(faces);
+            occluders.push(Occluder { faces });
         }
         Ok(DlWorld {
             scene,
             light,
             surfaces,
-            boxes,
+            occluders,
         })
     }
 
@@ -257,11 +271,11 @@ impl DlWorld {
         )))
     }
 
-    /// The shading data of surface point `x` with normal `n` on box `solid`
-    /// (whose own faces cannot shadow it: boxes are convex). Occluders are
-    /// the other boxes' faces that face `x` (a ray entering a convex box
-    /// crosses one of them first); walls never stand between a point of the
-    /// room and the light.
+    /// The shading data of surface point `x` with normal `n` on occluder
+    /// `solid` (which cannot shadow it: a box is convex, and a quad does not
+    /// shadow its own points). The others cast shadows: every quad, and the
+    /// faces of each box that face `x` (a ray entering a convex box crosses
+    /// one of them first). Shadows that miss the light are dropped.
     #[must_use]
     pub fn surface_point(
         &self,
@@ -271,13 +285,16 @@ impl DlWorld {
         solid: Option<usize>,
     ) -> DlPixel {
         let mut shadows = Vec::new();
-        for (b, faces) in self.boxes.iter().enumerate() {
+        for (b, occ) in self.occluders.iter().enumerate() {
             if Some(b) == solid {
                 continue;
             }
-            for (f, nrm) in faces {
-                if dot(sub(x, f.corner()), *nrm) > 0.0 {
-                    if let Some(s) = Shadow::project(&self.light, x, f) {
+            for (f, nrm) in &occ.faces {
+                if nrm.is_some_and(|m| dot(sub(x, f.corner()), m) <= 0.0) {
+                    continue;
+                }
+                if let Some(s) = Shadow::project(&self.light, x, f) {
+                    if !s.misses(&self.light) {
                         shadows.push(s);
                     }
                 }
