@@ -497,6 +497,31 @@ impl Seed {
         )
     }
 
+    /// The seed of one item named by a path of purposes, e.g. `(effect,
+    /// part, pixel, estimator, N, realisation)`: each step is
+    /// `s ← Seed(s.stream(pᵢ))`, so `derive(&[a, b]) ==
+    /// derive(&[a]).derive(&[b])`.
+    ///
+    /// **Distinct paths of one length give distinct seeds**, for every
+    /// starting seed: a step is a bijection of the purpose for a fixed
+    /// state (`p·φ + c` with odd `φ`, [`mix64`], `⊕ s` and [`mix64`] are
+    /// each bijections of `u64`) and a bijection of the state for a fixed
+    /// purpose, so the first component where two paths differ gives
+    /// different states, and every later step keeps them apart. A caller
+    /// that names every stream by a fixed-length tuple therefore cannot
+    /// give two rows the same stream (as `1000·e + N` did for `N ≥ 1000`).
+    #[inline]
+    #[must_use]
+    pub const fn derive(self, path: &[u64]) -> Seed {
+        let mut s = self;
+        let mut i = 0;
+        while i < path.len() {
+            s = Seed(s.stream(path[i]));
+            i += 1;
+        }
+        s
+    }
+
     /// The [`Counter`] stream for one purpose: offset `stream(purpose)`, words
     /// from `stream(purpose ⊕ 2⁶³)`.
     #[inline]
@@ -560,6 +585,39 @@ pub fn mix32x8(mut x: u32x8) -> u32x8 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `derive` chains, and distinct paths of one length never collide:
+    /// every path `(a, b, c)` over a grid of 64 × 64 × 64 values, near-equal
+    /// and far apart, under two seeds (2^19 seeds, all distinct; a random
+    /// map would collide with probability 2^-26). A path that swaps two
+    /// components differs too.
+    #[test]
+    #[cfg(feature = "alloc")]
+    fn derived_seeds_chain_and_do_not_collide() {
+        let s = Seed::new(0x5eed);
+        assert_eq!(s.derive(&[3, 7]), s.derive(&[3]).derive(&[7]));
+        assert_eq!(s.derive(&[]), s);
+        assert_ne!(s.derive(&[3, 7]), s.derive(&[7, 3]));
+        let vals: [u64; 64] = core::array::from_fn(|i| match i {
+            0..=31 => i as u64,
+            32..=47 => 1000 + (i as u64 - 32),
+            48..=55 => u64::MAX - (i as u64 - 48),
+            _ => 1u64 << (i - 56 + 40),
+        });
+        let mut all = alloc::vec::Vec::with_capacity(2 * 64 * 64 * 64);
+        for seed in [Seed::new(0), Seed::new(u64::MAX)] {
+            for &a in &vals {
+                for &b in &vals {
+                    for &c in &vals {
+                        all.push(seed.derive(&[a, b, c]).0);
+                    }
+                }
+            }
+        }
+        all.sort_unstable();
+        all.dedup();
+        assert_eq!(all.len(), 2 * 64 * 64 * 64);
+    }
 
     #[test]
     fn pcg32_reference_vector() {

@@ -106,11 +106,15 @@ pub fn centre_theta(pdf: CentrePdf, v: f64) -> (f64, f64) {
 /// `scratch` holds at least `2·spheres.len()` intervals.
 ///
 /// Where the centre density is 0 (the solid-angle and cosine densities at
-/// `θ_c = 0`, the cosine density at `θ_c = ±π/2`) a point sample gives 0
-/// (its `g` is 0 there too) and a segment with visible weight gives `+∞`:
-/// a measure-zero event (`v` exactly `½`, `0` or `1`), but the cosine ×
-/// segment estimator's variance is infinite because of the neighbourhood of
-/// those points, and this is where it shows.
+/// `θ_c = 0`, the cosine density at `θ_c = ±π/2`: `v` exactly `½`, `0` or
+/// `1`) both a point and a segment give 0. That set has measure zero, so
+/// the estimator's expectation is unchanged, and no pattern value can make
+/// an estimate non-finite (a segment divided by the vanishing density gave
+/// `+∞`, which discarded a whole pixel study). Near those points the
+/// segment estimate stays finite but unbounded (at most about `10⁴` for
+/// `f32` offsets, whose distance from `½` is at least `2⁻²⁵`): the
+/// solid-angle and cosine × segment estimators have infinite variance
+/// because of that neighbourhood, and the studies report them as such.
 ///
 /// # Errors
 /// A degenerate frame or a too-short `scratch` (the kernel's messages).
@@ -146,6 +150,10 @@ pub fn sample(
         }
         Primitive::Segments => {
             let (t, pt) = centre_theta(est.pdf, v);
+            if pt <= 0.0 {
+                // A measure-zero set of centres: see the function's docs.
+                return Ok(0.0);
+            }
             let len = est.length;
             let m = vis(t - 0.5 * len, len, scratch)? / (PI * len);
             if m == 0.0 {

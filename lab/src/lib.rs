@@ -18,6 +18,8 @@
 //! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
 //! - [`figures`]: plots (`plotters`, SVG) and PNG images.
 //! - [`fit`]: weighted log-log fits.
+//! - [`streams`]: the one seed scheme of the scene experiments (a typed
+//!   tuple of purposes per stream).
 //! - [`pointfile`]: the parser of the plain-text point files that
 //!   `linesample-lab spectrum --input` reads (text in, points or an error
 //!   naming the line and column out).
@@ -35,4 +37,5 @@ pub mod pointfile;
 pub mod runner;
 pub mod sampler;
 pub mod scene;
+pub mod streams;
 pub mod term;

@@ -495,7 +495,7 @@ struct RawEstimators {
 
 /// The effect a scene file asks for: its `[effect] kind`, the one field
 /// every scene file has and the one that decides how the rest is read.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum EffectKind {
     /// `ambient-occlusion`.
     AmbientOcclusion,

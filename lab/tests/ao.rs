@@ -203,3 +203,44 @@ fn every_estimator_and_sampler_averages_to_the_reference() {
     }
     assert_eq!(checks, 100);
 }
+
+/// No centre offset makes an estimate non-finite: at `v = 0, ½, 1` and the
+/// `f32` values next to them, every primitive, length and density gives a
+/// finite value at both paper pixels (a segment with the solid-angle or
+/// cosine density gave `+∞` where the density vanishes, which stopped the
+/// default pixel study with "mean must be finite").
+#[test]
+fn no_centre_makes_an_estimate_non_finite() {
+    let below_half = f64::from(0.5f32.next_down());
+    let above_half = f64::from(0.5f32.next_up());
+    let below_one = f64::from(1.0f32.next_down());
+    let tiny = f64::from(f32::from_bits(1));
+    for (px, py) in [(410.5, 305.5), (300.5, 290.5)] {
+        let (spheres, max_d, frame) = frame_at(px, py);
+        let mut scratch = vec![(0.0, 0.0); 2 * spheres.len() + 2];
+        for pdf in [CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine] {
+            for (primitive, length) in [
+                (Primitive::Points, 0.0),
+                (Primitive::Segments, 0.1),
+                (Primitive::Segments, 1.0),
+                (Primitive::Segments, std::f64::consts::PI),
+            ] {
+                let est = AoEstimator {
+                    primitive,
+                    length,
+                    pdf,
+                };
+                for u in [0.0, 0.25, 0.5, 0.75] {
+                    for v in [0.0, tiny, below_half, 0.5, above_half, below_one, 1.0] {
+                        let e =
+                            ao::sample(&spheres, max_d, &frame, &est, u, v, &mut scratch).unwrap();
+                        assert!(
+                            e.is_finite() && e >= 0.0,
+                            "{est:?} at pixel ({px}, {py}), u = {u}, v = {v}: {e}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

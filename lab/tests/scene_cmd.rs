@@ -280,3 +280,77 @@ fn spectral_prediction_matches_the_pixel() {
     println!("{checks} checks, worst |ln ratio| at {worst:.2} of its tolerance");
     assert_eq!(checks, 36);
 }
+
+/// One failed cell does not discard the study: the other rows are fitted
+/// and written, the failed row says why (estimator, N, realisation) in the
+/// CSV, the JSON and its verdict, and the study returns one error naming
+/// it. The infinite-variance rows say so in their verdict.
+#[test]
+fn a_failed_cell_is_reported_in_its_row_and_the_others_complete() {
+    use linesample_lab::experiments::scene::{
+        all_rows, complete_pixel, PixelCell, PixelConfig, PixelStudy, SceneSource,
+    };
+    let path = scene_file();
+    let text = fs::read_to_string(&path).unwrap();
+    let sc = linesample_lab::scene::parse(std::path::Path::new(&path), &text).unwrap();
+    let rows = all_rows(&sc);
+    let cfg = PixelConfig {
+        source: SceneSource { path, text },
+        width: 512,
+        height: 512,
+        pixel: (410, 305),
+        seed: 1,
+        shift: linesample_lab::cli::ShiftMode::Random,
+        ns: vec![4, 16],
+        realisations: 8,
+        rows: rows[..17].to_vec(),
+        reference_lines: 64,
+        reference_realisations: 4,
+        spectrum_realisations: 0,
+    };
+    let study = PixelStudy::new(cfg).unwrap();
+    let mut cells = linesample_lab::runner::compute(&study, Some(2)).unwrap();
+    // Row 2 (the cosine point density) at N = 16 fails.
+    let bad = 1 + 2 * 2 + 1;
+    cells[bad] = PixelCell::failed(
+        "points cosine random at N = 16: realisation 5: the estimate is inf".into(),
+    );
+    let dir = TempDir::new("scene-failed-cell");
+    let info = linesample_lab::runner::RunInfo {
+        threads: 2,
+        wall: std::time::Duration::ZERO,
+        computed: cells.len(),
+        resumed: 0,
+        cell_seconds: vec![0.0; cells.len()],
+        merged_from: Vec::new(),
+    };
+    let err = complete_pixel(&study, cells, &info, dir.path(), true).unwrap_err();
+    assert!(
+        err.contains("1 cell(s) of the pixel study failed")
+            && err.contains("points cosine random at N = 16: realisation 5"),
+        "{err}"
+    );
+    let v: serde_json::Value =
+        serde_json::from_slice(&fs::read(dir.path().join("pixel-410-305.json")).unwrap()).unwrap();
+    let slopes = v["slopes"].as_array().unwrap();
+    assert_eq!(slopes.len(), 17, "every row has its slope row");
+    for (k, s) in slopes.iter().enumerate() {
+        let verdict = s["verdict"].as_str().unwrap();
+        if k == 2 {
+            assert_eq!(verdict, "failed");
+            assert!(s["error"].as_str().unwrap().contains("realisation 5"));
+        } else {
+            assert!(s["slope"].as_f64().is_some(), "row {k} was fitted: {s}");
+            assert_eq!(s["error"], "");
+            let infinite = s["estimator"].as_str().unwrap().starts_with("segments")
+                && !s["estimator"].as_str().unwrap().contains("uniform");
+            assert_eq!(verdict == "infinite variance", infinite, "row {k}: {s}");
+        }
+    }
+    let csv = fs::read_to_string(dir.path().join("pixel-410-305.csv")).unwrap();
+    let failed: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.contains("realisation 5"))
+        .collect();
+    assert_eq!(failed.len(), 1, "{csv}");
+}

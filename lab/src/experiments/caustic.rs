@@ -24,12 +24,13 @@
 //! are unbiased as they are); Sobol′ gets a random toroidal shift per
 //! realisation.
 //!
-//! Seeds: the reference's realisation `r` uses
-//! `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1)).realization(r)`; row `e`
-//! (estimator × sampler, in the order of `rows.csv`) at `N` uses
-//! `Seed::new(Seed::new(SEED).stream(2⁴⁰·e + N)).realization(r)`; the image
-//! uses `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 2))`. A resumed or sharded
-//! run draws the same numbers, whatever the thread count.
+//! Seeds ([`crate::streams`]): realisation `r` of row `e` (estimator ×
+//! sampler, in the order of `rows.csv`) at `N` uses the stream
+//! `(volumetric-caustic, dims, study, 0, e, N)` and then `r`; the
+//! reference uses part `reference` and the fluence image part `fluence`,
+//! with `e = N = 0`. No two rows share a stream, the 2D and 3D scenes draw
+//! independent numbers, and a resumed or sharded run draws the same
+//! numbers, whatever the thread count.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -50,7 +51,8 @@ use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
-use crate::scene::SceneSampler;
+use crate::scene::{EffectKind, SceneSampler};
+use crate::streams::{Part, Realisations, Stream};
 
 /// The study's runner kind.
 pub const KIND: &str = "scene-caustic";
@@ -310,18 +312,28 @@ impl Study {
     }
 }
 
-fn reference_seed(seed: u64) -> Seed {
-    Seed::new(Seed::new(seed).stream(u64::MAX))
-}
+impl Study {
+    /// The stream of cell `index` (0: the reference; then row `e` at the
+    /// `i`-th `N`, cell `1 + e·|ns| + i`).
+    #[must_use]
+    pub fn stream(&self, index: usize) -> Stream {
+        let cfg = &self.config;
+        let at = |part| Stream::new(EffectKind::VolumetricCaustic, self.dims, part);
+        if index == 0 {
+            at(Part::Reference)
+        } else {
+            let (e, i) = ((index - 1) / cfg.ns.len(), (index - 1) % cfg.ns.len());
+            at(Part::Study).row(e, cfg.ns[i])
+        }
+    }
 
-fn image_seed(seed: u64) -> Seed {
-    Seed::new(Seed::new(seed).stream(u64::MAX - 1))
-}
-
-/// Row `e` at `N`: stream `2⁴⁰·e + N` (distinct for every row and any
-/// `N < 2⁴⁰`).
-fn row_seed(seed: u64, e: usize, n: usize) -> Seed {
-    Seed::new(Seed::new(seed).stream(((e as u64) << 40) | n as u64))
+    /// The streams of every cell, in cell order.
+    #[must_use]
+    pub fn streams(&self) -> Vec<Stream> {
+        (0..=self.config.rows.len() * self.config.ns.len())
+            .map(|i| self.stream(i))
+            .collect()
+    }
 }
 
 impl Experiment for Study {
@@ -340,24 +352,18 @@ impl Experiment for Study {
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<StudyCell, String> {
         let cfg = &self.config;
-        let (est, sampler, n, seed, total) = if index == 0 {
+        let seed = Realisations::of(&self.stream(index), cfg.seed);
+        let (est, sampler, n, total) = if index == 0 {
             (
                 Estimator::Beams,
                 SceneSampler::Jittered,
                 cfg.reference_beams,
-                reference_seed(cfg.seed),
                 cfg.reference_realisations,
             )
         } else {
             let (e, i) = ((index - 1) / cfg.ns.len(), (index - 1) % cfg.ns.len());
             let (est, sampler) = cfg.rows[e];
-            (
-                est,
-                sampler,
-                cfg.ns[i],
-                row_seed(cfg.seed, e, cfg.ns[i]),
-                cfg.realisations,
-            )
+            (est, sampler, cfg.ns[i], cfg.realisations)
         };
         let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n)?;
         let (rs, seconds) = ctx.realisations(
@@ -365,7 +371,7 @@ impl Experiment for Study {
             CHUNK,
             || buffer::empty(n, "samples"),
             |x, r| {
-                pattern.fill(seed.realization(r), n, x)?;
+                pattern.fill(seed.at(r), n, x)?;
                 Ok(self.world.estimate(est, x))
             },
         )?;
@@ -918,7 +924,8 @@ pub fn run_image(
     let t = Instant::now();
     let pattern = Pattern::new(SceneSampler::Jittered, k, m)?;
     let mut x = buffer::empty(m, "fluence beams")?;
-    pattern.fill(image_seed(seed), m, &mut x)?;
+    let image_seed = Stream::new(EffectKind::VolumetricCaustic, scene.dims, Part::Fluence);
+    pattern.fill(image_seed.seed(seed), m, &mut x)?;
     let st = scene.sigma_s + scene.sigma_a;
     let albedo = scene.sigma_s / st;
     const PARTS: usize = 16;

@@ -26,13 +26,15 @@
 //!    independent realisations per row, fitted slopes with 95 % intervals,
 //!    time to 1 % relative error, and `OUT/orientation.csv`.
 //!
-//! Seeds: the reference of pixel `i = y·W + x` uses
-//! `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1)).realization(i).realization(r)`;
-//! estimator `e` (its index in the scene's list) at `N` uses
-//! `Seed::new(Seed::new(SEED).stream(1000·e + N))`, then `.realization(i)`
-//! (images) and `.realization(r)`. So the studies at A and B repeat
-//! nothing the images drew, and a resumed or sharded run draws the same
-//! numbers.
+//! Seeds ([`crate::streams`]): realisation `r` of estimator `e` (its index
+//! in the images' or the study's list) at `N` at pixel `i = y·W + x` uses
+//! the stream `(direct-light, 3, part, i, e, N)` and then `r`, with part
+//! `image` or `study`; the references use `image-reference` and
+//! `reference` with `e = N = 0`. So no two rows or pixels share a stream
+//! (but the images' f32 SIMD row draws its f64 twin's numbers, so that
+//! their difference is the f32 rounding alone),
+//! the studies at A and B repeat nothing the images drew, and a resumed or
+//! sharded run draws the same numbers.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -52,7 +54,8 @@ use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
-use crate::scene::{cross, dot, sub, unit, Effect, Orientation, Scene, SceneSampler};
+use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
+use crate::streams::{Part, Realisations, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene-direct";
@@ -613,12 +616,9 @@ pub const REFERENCE: DlEstimator = DlEstimator {
     simd: false,
 };
 
-fn reference_seed(seed: u64) -> Seed {
-    Seed::new(Seed::new(seed).stream(u64::MAX))
-}
-
-fn row_seed(seed: u64, e: usize, n: usize) -> Seed {
-    Seed::new(Seed::new(seed).stream(1000 * e as u64 + n as u64))
+/// A stream of the direct-light scene ([`crate::streams`]).
+fn stream(part: Part) -> Stream {
+    Stream::new(EffectKind::DirectLight, 3, part)
 }
 
 /// A realisation's random-orientation generator.
@@ -792,24 +792,42 @@ impl Experiment for Images {
             seconds: vec![0.0; ne * nl],
         };
         let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
-        let ref_seed = reference_seed(cfg.seed);
+        // An f32 SIMD row draws its f64 twin's numbers, so that their
+        // difference is the f32 rounding alone.
+        let twin: Vec<usize> = cfg
+            .estimators
+            .iter()
+            .enumerate()
+            .map(|(e, est)| {
+                let f64_twin = DlEstimator {
+                    simd: false,
+                    ..*est
+                };
+                cfg.estimators
+                    .iter()
+                    .position(|o| *o == f64_twin)
+                    .unwrap_or(e)
+            })
+            .collect();
         for y in y0..y1 {
             for x in 0..cfg.width {
                 let p = ((y - y0) * cfg.width + x) as usize;
-                let pix = u64::from(y) * u64::from(cfg.width) + u64::from(x);
                 let Some(Seen::Surface(px)) = self.world.pixel(x, y) else {
                     continue;
                 };
                 let w = &self.world;
                 let mut rs = RunningStats::new();
-                let base = ref_seed.realization(pix);
+                let base = Realisations::of(
+                    &stream(Part::ImageReference).pixel(x, y, cfg.width),
+                    cfg.seed,
+                );
                 for r in 0..cfg.reference_realisations {
                     rs.push(one_estimate(
                         w,
                         &px,
                         &REFERENCE,
                         &reference,
-                        base.realization(r),
+                        base.at(r),
                         &mut vals,
                         &mut one,
                         &mut scratch,
@@ -821,14 +839,17 @@ impl Experiment for Images {
                 for (e, est) in cfg.estimators.iter().enumerate() {
                     for (l, &n) in cfg.ladder.iter().enumerate() {
                         let k = e * nl + l;
-                        let seed = row_seed(cfg.seed, e, n).realization(pix);
+                        let seed = Realisations::of(
+                            &stream(Part::Image).pixel(x, y, cfg.width).row(twin[e], n),
+                            cfg.seed,
+                        );
                         let t = Instant::now();
                         let v = one_estimate(
                             w,
                             &px,
                             est,
                             &patterns[k],
-                            seed.realization(0),
+                            seed.at(0),
                             &mut vals,
                             &mut one,
                             &mut scratch,
@@ -844,7 +865,7 @@ impl Experiment for Images {
                                     &px,
                                     est,
                                     &patterns[k],
-                                    seed.realization(r),
+                                    seed.at(r),
                                     &mut vals,
                                     &mut one,
                                     &mut scratch,
@@ -1450,6 +1471,25 @@ pub struct PixelStudy {
 }
 
 impl PixelStudy {
+    /// The stream of cell `index`: the reference or a row at its pixel.
+    #[must_use]
+    pub fn stream(&self, index: usize) -> Stream {
+        let cfg = &self.config;
+        let job = self.jobs[index];
+        let (_, x, y) = &cfg.pixels[job.pixel];
+        let at = |part: Part| stream(part).pixel(*x, *y, cfg.width);
+        match job.row {
+            None => at(Part::Reference),
+            Some((e, i)) => at(Part::Study).row(e, cfg.ns[i]),
+        }
+    }
+
+    /// The streams of every cell, in cell order.
+    #[must_use]
+    pub fn streams(&self) -> Vec<Stream> {
+        (0..self.jobs.len()).map(|i| self.stream(i)).collect()
+    }
+
     /// The experiment of `config`.
     ///
     /// # Errors
@@ -1524,22 +1564,11 @@ impl Experiment for PixelStudy {
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
         let cfg = &self.config;
         let job = self.jobs[index];
-        let (_, x, y) = &cfg.pixels[job.pixel];
-        let pix = u64::from(*y) * u64::from(cfg.width) + u64::from(*x);
         let px = &self.points[job.pixel];
-        let (est, n, seed, total) = match job.row {
-            None => (
-                REFERENCE,
-                cfg.reference_lines,
-                reference_seed(cfg.seed).realization(pix),
-                cfg.reference_realisations,
-            ),
-            Some((e, i)) => (
-                cfg.estimators[e],
-                cfg.ns[i],
-                row_seed(cfg.seed, e, cfg.ns[i]),
-                cfg.realisations,
-            ),
+        let seed = Realisations::of(&self.stream(index), cfg.seed);
+        let (est, n, total) = match job.row {
+            None => (REFERENCE, cfg.reference_lines, cfg.reference_realisations),
+            Some((e, i)) => (cfg.estimators[e], cfg.ns[i], cfg.realisations),
         };
         let pattern = Pattern::new(&est, n)?;
         let (rs, seconds) = ctx.realisations(
@@ -1552,7 +1581,7 @@ impl Experiment for PixelStudy {
                     px,
                     &est,
                     &pattern,
-                    seed.realization(r),
+                    seed.at(r),
                     vals,
                     one,
                     scratch,

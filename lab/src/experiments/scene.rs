@@ -25,10 +25,15 @@
 //! interval beside the rate theory gives, and the time to a 1 % relative
 //! RMSE read off the fit.
 //!
-//! Seeds: row `N` of sampler `s` uses `Seed::new(Seed::new(SEED).stream(N))`,
-//! realisation `r` its `.realization(r)` (pixel study); images add the pixel
-//! index `i = y·W + x` first: `.realization(i).realization(r)`. The
-//! reference uses `Seed::new(Seed::new(SEED).stream(2⁶⁴ − 1))` the same way.
+//! Seeds ([`crate::streams`]): realisation `r` of row `e` (its index in
+//! the study's or the images' list of estimators) at `N` at pixel
+//! `i = y·W + x` uses the stream `(ambient-occlusion, 3, part, i, e, N)`
+//! and then `r`, with part `study` or `image`; the references use
+//! `reference` (`image-reference` for the images) with `e = N = 0`, and the
+//! spectral prediction `spectrum` with `e` its job's index. No two rows,
+//! pixels or parts share a stream, except that the images' f32 SIMD row
+//! draws the numbers of its f64 twin (their difference is then the f32
+//! rounding alone).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -51,15 +56,12 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{self, CentrePdf, Effect, Primitive, Scene, SceneSampler};
+use crate::streams::{Part, Realisations, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene";
 /// The pixel study's name.
 pub const PIXEL_KIND: &str = "scene-pixel";
-
-/// Mixed into the run seed for the prediction's pattern realisations (so
-/// they are independent of the measured ones).
-const SPECTRUM_PURPOSE: u64 = 0x5bec_7a1a;
 
 /// Realisations per chunk of a pixel-study row.
 const CHUNK: u64 = 32;
@@ -381,12 +383,9 @@ const REFERENCE: EstimatorSpec = EstimatorSpec {
     simd: false,
 };
 
-fn reference_seed(seed: u64) -> Seed {
-    Seed::new(Seed::new(seed).stream(u64::MAX))
-}
-
-fn row_seed(seed: u64, n: usize) -> Seed {
-    Seed::new(Seed::new(seed).stream(n as u64))
+/// A stream of the AO scene ([`crate::streams`]).
+fn stream(part: Part) -> Stream {
+    Stream::new(scene::EffectKind::AmbientOcclusion, 3, part)
 }
 
 /// The scene file as read, so that a resumed run refuses a changed file.
@@ -514,18 +513,34 @@ impl Experiment for Images {
         };
         let mut scratch = self.world.scratch();
         let mut uv = Vec::new();
-        let ref_seed = reference_seed(cfg.seed);
+        // An f32 SIMD row draws its f64 twin's numbers, so that their
+        // difference is the f32 rounding alone.
+        let twin: Vec<usize> = cfg
+            .estimators
+            .iter()
+            .enumerate()
+            .map(|(e, spec)| {
+                let f64_twin = EstimatorSpec {
+                    simd: false,
+                    ..*spec
+                };
+                cfg.estimators
+                    .iter()
+                    .position(|o| *o == f64_twin)
+                    .unwrap_or(e)
+            })
+            .collect();
         for y in y0..y1 {
             for x in 0..cfg.width {
                 let p = ((y - y0) * cfg.width + x) as usize;
-                let pix_index = u64::from(y) * u64::from(cfg.width) + u64::from(x);
                 let Some(px) = self.world.pixel(x, y) else {
                     continue;
                 };
                 let mut rs = RunningStats::new();
-                let base = ref_seed.realization(pix_index);
+                let base = stream(Part::ImageReference).pixel(x, y, cfg.width);
+                let base = Realisations::of(&base, cfg.seed);
                 for r in 0..cfg.reference_realisations {
-                    reference.fill(base.realization(r), &mut uv)?;
+                    reference.fill(base.at(r), &mut uv)?;
                     rs.push(self.world.estimate(&px, &REFERENCE, &uv, &mut scratch)?);
                 }
                 cell.reference[p] = rs.mean() as f32;
@@ -533,9 +548,10 @@ impl Experiment for Images {
                 for (e, spec_e) in cfg.estimators.iter().enumerate() {
                     for (l, &n) in cfg.ladder.iter().enumerate() {
                         let k = e * nl + l;
-                        let seed = row_seed(cfg.seed, n).realization(pix_index);
+                        let seed = stream(Part::Image).pixel(x, y, cfg.width).row(twin[e], n);
+                        let seed = Realisations::of(&seed, cfg.seed);
                         let t = Instant::now();
-                        offsets[k].fill(seed.realization(0), &mut uv)?;
+                        offsets[k].fill(seed.at(0), &mut uv)?;
                         let v = self.world.estimate(&px, spec_e, &uv, &mut scratch)?;
                         cell.seconds[k] += t.elapsed().as_secs_f64();
                         cell.images[k][p] = v as f32;
@@ -543,7 +559,7 @@ impl Experiment for Images {
                             let mut vs = RunningStats::new();
                             vs.push(v);
                             for r in 1..cfg.variance_realisations {
-                                offsets[k].fill(seed.realization(r), &mut uv)?;
+                                offsets[k].fill(seed.at(r), &mut uv)?;
                                 vs.push(self.world.estimate(&px, spec_e, &uv, &mut scratch)?);
                             }
                             cell.variance[e][p] = vs.variance() as f32;
@@ -922,6 +938,26 @@ pub struct PixelCell {
     pub predictions: Vec<(usize, f64)>,
     /// `⟨N·P⟩` on the half grid (the drawn spectrum only).
     pub periodogram: Vec<f64>,
+    /// Why a measured cell has no statistics (an error of the kernel or a
+    /// non-finite estimate, naming the estimator, `N` and realisation): the
+    /// study still completes every other row and reports this one as
+    /// failed.
+    pub error: Option<String>,
+}
+
+impl PixelCell {
+    /// A measured cell that failed with `error`.
+    #[must_use]
+    pub fn failed(error: String) -> Self {
+        PixelCell {
+            count: 0,
+            moments: [0.0; 4],
+            seconds_per_estimate: 0.0,
+            predictions: Vec::new(),
+            periodogram: Vec::new(),
+            error: Some(error),
+        }
+    }
 }
 
 /// A prediction cell: one sampler's expected periodogram at one `N`, 2D
@@ -1058,7 +1094,12 @@ impl PixelStudy {
             sampler: job.sampler,
             simd: false,
         };
-        let seed = Seed::new(Seed::new(cfg.seed ^ SPECTRUM_PURPOSE).stream(job.n as u64));
+        let (x, y) = cfg.pixel;
+        let job_index = self.jobs.iter().position(|j| *j == job).unwrap_or(0);
+        let seed = stream(Part::Spectrum)
+            .pixel(x, y, cfg.width)
+            .row(job_index, job.n)
+            .seed(cfg.seed);
         let chunks = cfg.spectrum_realisations.div_ceil(CHUNK) as usize;
         let parts = ctx.map_ordered(chunks, |c| {
             let r0 = c as u64 * CHUNK;
@@ -1093,7 +1134,39 @@ impl PixelStudy {
             seconds_per_estimate: 0.0,
             predictions,
             periodogram: if drawn { np } else { Vec::new() },
+            error: None,
         })
+    }
+
+    /// The stream of measured cell `index` (the reference or a row).
+    #[must_use]
+    pub fn stream(&self, index: usize) -> Stream {
+        let (x, y) = self.config.pixel;
+        let at = |part: Part| stream(part).pixel(x, y, self.config.width);
+        if index == 0 {
+            at(Part::Reference)
+        } else {
+            let k = index - 1;
+            let nn = self.config.ns.len();
+            at(Part::Study).row(k / nn, self.config.ns[k % nn])
+        }
+    }
+
+    /// The streams of the measured cells (the reference, then each row
+    /// and `N`) and of the spectral predictions.
+    #[must_use]
+    pub fn streams(&self) -> Vec<Stream> {
+        let (x, y) = self.config.pixel;
+        let measured = self.config.rows.len() * self.config.ns.len();
+        let mut v: Vec<Stream> = (0..=measured).map(|i| self.stream(i)).collect();
+        for (j, job) in self.jobs.iter().enumerate() {
+            v.push(
+                stream(Part::Spectrum)
+                    .pixel(x, y, self.config.width)
+                    .row(j, job.n),
+            );
+        }
+        v
     }
 
     fn row_n(&self, index: usize) -> (EstimatorSpec, usize) {
@@ -1108,7 +1181,7 @@ impl PixelStudy {
         spec: &EstimatorSpec,
         n: usize,
         realisations: u64,
-        seed: Seed,
+        seed: Realisations,
     ) -> Result<PixelCell, String> {
         let offsets = Offsets::new(spec, n, self.config.shift == ShiftMode::Random)?;
         let (all, seconds_per_estimate) = ctx.realisations(
@@ -1116,8 +1189,13 @@ impl PixelStudy {
             CHUNK,
             || Ok((self.world.scratch(), Vec::new())),
             |(scratch, uv), r| {
-                offsets.fill(seed.realization(r), uv)?;
-                self.world.estimate(&self.px, spec, uv, scratch)
+                offsets.fill(seed.at(r), uv)?;
+                let e = self.world.estimate(&self.px, spec, uv, scratch)?;
+                if e.is_finite() {
+                    Ok(e)
+                } else {
+                    Err(format!("realisation {r}: the estimate is {e}"))
+                }
             },
         )?;
         let (count, moments) = all.parts();
@@ -1127,6 +1205,7 @@ impl PixelStudy {
             seconds_per_estimate,
             predictions: Vec::new(),
             periodogram: Vec::new(),
+            error: None,
         })
     }
 }
@@ -1154,7 +1233,7 @@ impl Experiment for PixelStudy {
                 &REFERENCE,
                 cfg.reference_lines,
                 cfg.reference_realisations,
-                reference_seed(cfg.seed),
+                Realisations::of(&self.stream(index), cfg.seed),
             );
         }
         let measured = cfg.rows.len() * cfg.ns.len();
@@ -1162,7 +1241,16 @@ impl Experiment for PixelStudy {
             return self.spectrum_cell(self.jobs[index - measured - 1], ctx);
         }
         let (spec, n) = self.row_n(index);
-        self.stats(ctx, &spec, n, cfg.realisations, row_seed(cfg.seed, n))
+        let seed = Realisations::of(&self.stream(index), cfg.seed);
+        match self.stats(ctx, &spec, n, cfg.realisations, seed) {
+            // A failed row is kept as such (the other rows go on), unless
+            // the run is being stopped.
+            Err(e) if crate::runner::stop::requested().is_none() => Ok(PixelCell::failed(format!(
+                "{} at N = {n}: {e}",
+                spec.label()
+            ))),
+            other => other,
+        }
     }
 }
 
@@ -1265,6 +1353,8 @@ pub struct PixelRow {
     /// The spectral prediction (uniform density; 2D patterns up to
     /// [`PREDICT_MAX_2D`]), NaN where none.
     pub predicted_variance: f64,
+    /// Why the cell has no statistics (empty when it has).
+    pub error: String,
 }
 
 /// A fitted slope of the pixel study.
@@ -1293,6 +1383,44 @@ pub struct SlopeRow {
     /// standard error `√((SE₁/V₁)² + (SE₂/V₂)²)/ln(N₂/N₁)` (delta method).
     pub last_slope: f64,
     pub last_slope_se: f64,
+    /// [`verdict`] of the row: `consistent`, `log factor`,
+    /// `pre-asymptotic`, `not consistent`, `infinite variance` (the theory
+    /// predicts no rate) or `failed` (a cell has no statistics).
+    pub verdict: String,
+    /// The failed cells' errors (empty when none failed).
+    pub error: String,
+}
+
+/// Slack added to each side of a slope's 95 % interval by [`verdict`].
+pub const SLOPE_SLACK: f64 = 0.15;
+
+/// The verdict on a fitted slope against the theory's rate `theory` (NaN:
+/// infinite variance, no rate), with `log` when the theory has a `log N`
+/// factor: `consistent` if the theory lies in the 95 % interval
+/// `[lo, hi]` widened by [`SLOPE_SLACK`]; `log factor` if the slope is
+/// shallower than a theory with a `log N` factor by less than 0.5;
+/// `pre-asymptotic` if the slope between the two largest `N` is consistent
+/// by the same widened rule; else `not consistent`.
+#[must_use]
+pub fn verdict(
+    theory: f64,
+    log: bool,
+    (slope, lo, hi): (f64, f64, f64),
+    (last, last_se): (f64, f64),
+) -> &'static str {
+    if theory.is_nan() {
+        "infinite variance"
+    } else if !slope.is_finite() {
+        "no fit"
+    } else if theory >= lo - SLOPE_SLACK && theory <= hi + SLOPE_SLACK {
+        "consistent"
+    } else if log && slope > theory && slope < theory + 0.5 {
+        "log factor"
+    } else if (last - theory).abs() <= 1.96 * last_se + SLOPE_SLACK {
+        "pre-asymptotic"
+    } else {
+        "not consistent"
+    }
 }
 
 /// The pixel study's JSON document.
@@ -1353,9 +1481,38 @@ pub fn complete_pixel(
         }
     }
     let mut rows = Vec::new();
+    let mut failed = Vec::new();
     for (i, c) in cells.iter().enumerate().take(measured + 1).skip(1) {
         let (spec, n) = exp.row_n(i);
-        let s = stats(c)?;
+        // A failed cell, or one whose stored statistics do not decode,
+        // becomes a row of NaNs with its error; the others go on.
+        let s = match stats(c) {
+            Ok(s) if c.error.is_none() => s,
+            decoded => {
+                let e = c.error.clone().unwrap_or_else(|| {
+                    let why = decoded.err().unwrap_or_default();
+                    format!("{} at N = {n}: {why}", spec.label())
+                });
+                failed.push(e.clone());
+                rows.push(PixelRow {
+                    estimator: spec.label(),
+                    primitive: spec.primitive,
+                    length: spec.length,
+                    pdf: spec.pdf,
+                    sampler: spec.sampler,
+                    n,
+                    realisations: 0,
+                    mean: f64::NAN,
+                    bias_z: f64::NAN,
+                    variance: f64::NAN,
+                    variance_se: f64::NAN,
+                    seconds_per_estimate: f64::NAN,
+                    predicted_variance: predicted[i - 1],
+                    error: e,
+                });
+                continue;
+            }
+        };
         let se = s.mean_std_error();
         rows.push(PixelRow {
             estimator: spec.label(),
@@ -1371,6 +1528,7 @@ pub fn complete_pixel(
             variance_se: s.variance_std_error(),
             seconds_per_estimate: c.seconds_per_estimate,
             predicted_variance: predicted[i - 1],
+            error: String::new(),
         });
     }
     let nn = cfg.ns.len();
@@ -1380,18 +1538,34 @@ pub fn complete_pixel(
     let mut series = Vec::new();
     for (k, spec) in cfg.rows.iter().enumerate() {
         let rs = &rows[k * nn..(k + 1) * nn];
+        let errors: Vec<&str> = rs
+            .iter()
+            .filter(|r| !r.error.is_empty())
+            .map(|r| r.error.as_str())
+            .collect();
         let data: Vec<(f64, f64, f64)> = rs
             .iter()
             .map(|r| (r.n as f64, r.variance, r.variance_se))
             .collect();
-        let fit = fit_loglog(&data);
+        // A row with a failed cell is not fitted: its slope would mix N.
+        let fit = if errors.is_empty() {
+            fit_loglog(&data)
+        } else {
+            None
+        };
         let (th, lp, note) = theory(spec);
         let last = rs
             .last()
             .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
         // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b);
         // NaN for a row whose fit does not converge.
-        let seconds_to_1pct = n_to_target(fit.as_ref(), (0.01 * reference.value).powi(2)) * last;
+        // NaN for a row whose fit does not converge, and for an estimator
+        // of infinite variance (no rate to extrapolate).
+        let seconds_to_1pct = if th.is_nan() {
+            f64::NAN
+        } else {
+            n_to_target(fit.as_ref(), (0.01 * reference.value).powi(2)) * last
+        };
         let (last_slope, last_slope_se) = if nn >= 2 {
             let (a, b) = (&rs[nn - 2], &rs[nn - 1]);
             let l = (b.n as f64 / a.n as f64).ln();
@@ -1404,7 +1578,37 @@ pub fn complete_pixel(
         } else {
             (f64::NAN, f64::NAN)
         };
+        if !errors.is_empty() || fit.is_none() {
+            slopes.push(SlopeRow {
+                estimator: spec.label(),
+                primitive: spec.primitive,
+                length: spec.length,
+                pdf: spec.pdf,
+                sampler: spec.sampler,
+                n_min: cfg.ns.iter().copied().min().unwrap_or(0),
+                n_max,
+                slope: f64::NAN,
+                ci95_low: f64::NAN,
+                ci95_high: f64::NAN,
+                theory: th,
+                theory_log_power: lp,
+                theory_note: note.clone(),
+                seconds_to_1pct: f64::NAN,
+                fit_chi2_dof: f64::NAN,
+                last_slope,
+                last_slope_se,
+                verdict: if errors.is_empty() {
+                    "no fit"
+                } else {
+                    "failed"
+                }
+                .into(),
+                error: errors.join("; "),
+            });
+            var_max.push(rs[nn - 1].variance);
+        }
         if let Some(f) = fit {
+            let (lo, hi) = (f.slope - 1.96 * f.slope_se, f.slope + 1.96 * f.slope_se);
             slopes.push(SlopeRow {
                 estimator: spec.label(),
                 primitive: spec.primitive,
@@ -1414,8 +1618,8 @@ pub fn complete_pixel(
                 n_min: cfg.ns.iter().copied().min().unwrap_or(0),
                 n_max,
                 slope: f.slope,
-                ci95_low: f.slope - 1.96 * f.slope_se,
-                ci95_high: f.slope + 1.96 * f.slope_se,
+                ci95_low: lo,
+                ci95_high: hi,
                 theory: th,
                 theory_log_power: lp,
                 theory_note: note,
@@ -1423,6 +1627,8 @@ pub fn complete_pixel(
                 fit_chi2_dof: f.chi2_dof,
                 last_slope,
                 last_slope_se,
+                verdict: verdict(th, lp > 0, (f.slope, lo, hi), (last_slope, last_slope_se)).into(),
+                error: String::new(),
             });
             var_max.push(rs[nn - 1].variance);
             if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
@@ -1500,18 +1706,19 @@ pub fn complete_pixel(
             doc.reference.method
         );
         crate::out!(
-            "{:<42} {:>7} {:>18} {:>9}  {:>11} {:>10}  {}",
+            "{:<42} {:>7} {:>18} {:>9}  {:<17}  {:>11} {:>14}  {}",
             "estimator",
             "slope",
             "95 % interval",
             "theory",
+            "verdict",
             "Var(N_max)",
             "s to 1 %",
             "note"
         );
         for (s, &var_max) in slopes.iter().zip(&var_max) {
             crate::out!(
-                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:>11.3e} {:>10}  {}",
+                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:<17}  {:>11.3e} {:>14}  {}",
                 s.estimator,
                 s.slope,
                 s.ci95_low,
@@ -1525,9 +1732,14 @@ pub fn complete_pixel(
                         if s.theory_log_power > 0 { "+log" } else { "" }
                     )
                 },
+                s.verdict,
                 var_max,
                 fit_sci(s.seconds_to_1pct, 2),
-                s.theory_note
+                if s.error.is_empty() {
+                    &s.theory_note
+                } else {
+                    &s.error
+                }
             );
         }
         let preds: Vec<&PixelRow> = rows
@@ -1562,7 +1774,16 @@ pub fn complete_pixel(
         }
         crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
     }
-    Ok(())
+    if failed.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} cell(s) of the pixel study failed (the other rows are in {}): {}",
+            failed.len(),
+            dir.join(format!("{stem}.json")).display(),
+            failed.join("; ")
+        ))
+    }
 }
 
 /// `log10` of a positive value as a grey level in `[lo, hi]` decades, as RGB.

@@ -282,7 +282,7 @@ fn mean_np<const D: usize>(
     let mut uv = Vec::new();
     let mut pts = Vec::new();
     for r in realisations {
-        offsets.fill(seed.realization(r), &mut uv)?;
+        offsets.fill(seed.derive(&[r]), &mut uv)?;
         pts.clear();
         pts.extend(uv.iter().map(&point));
         plan.transform(&pts, &mut re, &mut im)

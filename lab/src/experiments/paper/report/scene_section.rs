@@ -11,10 +11,6 @@ use crate::experiments::paper::plan::Mode;
 use crate::experiments::scene::{AO_SCENE_NAME, PAPER_PIXELS};
 use crate::fit::fit_sci;
 
-/// Tolerance added to a slope's 95 % interval before it is called
-/// consistent with the theory (as the rate tables do).
-const SLOPE_SLACK: f64 = 0.15;
-
 fn num(v: &Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
 }
@@ -152,18 +148,13 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
                 num(&s["theory"]),
             );
             let log = s["theory_log_power"].as_u64().unwrap_or(0) > 0;
-            let verdict = if th.is_nan() {
-                "<span class=\"v na\">infinite variance</span>"
-            } else if th >= lo - SLOPE_SLACK && th <= hi + SLOPE_SLACK {
-                "<span class=\"v ok\">consistent</span>"
-            } else if log && slope > th && slope < th + 0.5 {
-                "<span class=\"v pre\">log factor</span>"
-            } else if (num(&s["last_slope"]) - th).abs()
-                <= 1.96 * num(&s["last_slope_se"]) + SLOPE_SLACK
-            {
-                "<span class=\"v pre\">pre-asymptotic</span>"
-            } else {
-                "<span class=\"v bad\">not consistent</span>"
+            let verdict = match s["verdict"].as_str().unwrap_or("") {
+                v @ "consistent" => format!("<span class=\"v ok\">{v}</span>"),
+                v @ ("log factor" | "pre-asymptotic") => {
+                    format!("<span class=\"v pre\">{v}</span>")
+                }
+                v @ ("infinite variance" | "no fit") => format!("<span class=\"v na\">{v}</span>"),
+                v => format!("<span class=\"v bad\">{}</span>", esc(v)),
             };
             let _ = write!(
                 h,
@@ -179,7 +170,10 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
                 },
                 num(&s["fit_chi2_dof"]),
                 fit_sci(num(&s["seconds_to_1pct"]), 2),
-                esc(&text(&s["theory_note"]))
+                esc(&match text(&s["error"]) {
+                    e if e.is_empty() => text(&s["theory_note"]),
+                    e => e,
+                })
             );
         }
         h.push_str(
