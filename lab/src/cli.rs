@@ -228,9 +228,11 @@ pub enum Command {
     /// edge closest to parallel to each light edge, when within 2 degrees) get a convergence study
     /// (--pixel-n, --realisations, --samplers: default random and jittered)
     /// into OUT/pixels/, and OUT/orientation.csv gets their slopes. --pixel
-    /// X,Y studies that one pixel instead. Jittered patterns are used
-    /// unshifted (a shift would misalign their strata with the light's
-    /// edges).
+    /// X,Y studies that one pixel instead. By default only Sobol' points get
+    /// a random toroidal shift per realisation; the other patterns are used
+    /// unshifted (a shift would misalign jittered strata with the light's
+    /// edges); --shift random shifts every pattern, --shift none none (not
+    /// with sobol).
     ///
     /// Volumetric caustic (no camera: light, glass ball, medium, query ball
     /// Q): the fluence image rendered with the file's fluence.beams
@@ -240,7 +242,8 @@ pub enum Command {
     /// two), --realisations estimates each, against a reference of
     /// --reference-realisations x --reference-lines jittered beams (default
     /// 64 x 65536), into OUT/study/; OUT/caustics.csv gets the slopes, fitted
-    /// over the three largest N.
+    /// over the three largest N. Shifts as for direct light: Sobol' only by
+    /// default, --shift random or none to choose.
     ///
     /// Seeds: see the scene experiments' docs; results do not depend on
     /// --threads.
@@ -342,15 +345,7 @@ pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
     Ok((w as u32, h as u32))
 }
 
-/// `--shift`: homogenisation by a random toroidal shift.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ShiftMode {
-    /// The pattern as generated.
-    None,
-    /// An independent uniform random toroidal shift per realisation.
-    Random,
-}
+pub use crate::spec::ShiftMode;
 
 /// `--shift [MODE]`, shared by `patterns` and the runner commands.
 #[derive(Clone, Debug, Args)]

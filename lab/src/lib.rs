@@ -18,6 +18,7 @@
 //! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
 //! - [`figures`]: plots (`plotters`, SVG) and PNG images.
 //! - [`fit`]: weighted log-log fits.
+//! - [`spec`]: the vocabulary experiments share with the command line.
 //! - [`streams`]: the one seed scheme of the scene experiments (a typed
 //!   tuple of purposes per stream).
 //! - [`pointfile`]: the parser of the plain-text point files that
@@ -37,5 +38,6 @@ pub mod pointfile;
 pub mod runner;
 pub mod sampler;
 pub mod scene;
+pub mod spec;
 pub mod streams;
 pub mod term;

@@ -261,3 +261,34 @@ fn points_and_beams_are_unbiased() {
     }
     assert_eq!(checks, 32);
 }
+
+/// `--shift` is honoured by the caustic study (it was silently ignored):
+/// recorded in its configuration, and `--shift none` with Sobol′ refused.
+#[test]
+fn shift_is_honoured_or_refused() {
+    let dir = TempDir::new("caustic-shift");
+    let o = run(
+        &dir,
+        2,
+        "s",
+        "2",
+        &["--shift", "random", "--samplers", "random,jittered"],
+    );
+    ok(&o, "--shift random");
+    let m: serde_json::Value =
+        serde_json::from_slice(&fs::read(dir.path().join("s/study.state/manifest.json")).unwrap())
+            .unwrap();
+    assert_eq!(m["config"]["shift"], "random");
+    let o = run(
+        &dir,
+        2,
+        "n",
+        "2",
+        &["--shift", "none", "--samplers", "sobol"],
+    );
+    fails_with(
+        &o,
+        "--shift none with the sobol sampler",
+        "--shift none + sobol",
+    );
+}

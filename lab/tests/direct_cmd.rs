@@ -250,6 +250,7 @@ fn every_estimator_is_unbiased() {
         8,
         64,
         2,
+        None,
         &out,
         &opts,
     )
@@ -300,7 +301,7 @@ fn every_estimator_is_unbiased() {
             let mut r = seed.pcg(0x0c1e_47a7);
             world.estimate(&px, est, vals, &mut r, scratch).unwrap()
         };
-        let rp = Pattern::new(&REFERENCE, 4096).unwrap();
+        let rp = Pattern::new(&REFERENCE, 4096, None).unwrap();
         let mut rs = RunningStats::new();
         for r in 0..64 {
             rs.push(estimate(
@@ -314,7 +315,7 @@ fn every_estimator_is_unbiased() {
         }
         let (rv, rse) = (rs.mean(), rs.mean_std_error());
         for (e, est) in ests.iter().enumerate() {
-            let pat = Pattern::new(est, 16).unwrap();
+            let pat = Pattern::new(est, 16, None).unwrap();
             let mut s = RunningStats::new();
             for r in 0..20_000 {
                 s.push(estimate(
@@ -341,7 +342,7 @@ fn every_estimator_is_unbiased() {
         let f64e = ests[7];
         assert_eq!(f64e.name(), "lines-edge1");
         let f32e = DlEstimator { simd: true, ..f64e };
-        let pat = Pattern::new(&f64e, 16).unwrap();
+        let pat = Pattern::new(&f64e, 16, None).unwrap();
         for r in 0..50 {
             let seed = Seed::new(13).realization(r);
             let a = estimate(&f64e, &pat, seed, &mut vals, &mut one, &mut scratch);
@@ -439,4 +440,71 @@ fn a_free_standing_quad_casts_a_shadow() {
         );
         assert_eq!(s, s0 + 1, "the panel's shadow and no wall's");
     }
+}
+
+/// `--shift` is honoured (it was silently ignored): `--shift random` moves
+/// the jittered rows, `--shift none` with Sobol′ is refused, and the
+/// configuration records the choice.
+#[test]
+fn shift_is_honoured_or_refused() {
+    let dir = TempDir::new("direct-shift");
+    let file = scene_file().display().to_string();
+    let study = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "scene",
+            &file,
+            "--resolution",
+            "64x64",
+            "--pixel",
+            "32,40",
+            "--pixel-n",
+            "4,16",
+            "--realisations",
+            "8",
+            "--reference-lines",
+            "64",
+            "--reference-realisations",
+            "4",
+            "--samplers",
+            "jittered",
+            "--out",
+            out,
+            "--quiet",
+        ];
+        args.extend_from_slice(extra);
+        lab(&dir, &args)
+    };
+    ok(&study("plain", &[]), "default shift");
+    ok(&study("shifted", &["--shift", "random"]), "--shift random");
+    let rows = |out: &str| -> Vec<String> {
+        fs::read_to_string(dir.path().join(out).join("pixels/rows.csv"))
+            .unwrap()
+            .lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(|l| l.split(',').take(9).collect::<Vec<_>>().join(","))
+            .collect()
+    };
+    let (a, b) = (rows("plain"), rows("shifted"));
+    assert_eq!(a.len(), b.len());
+    let moved = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert!(
+        moved >= a.len() - 2,
+        "only {moved} of {} rows moved",
+        a.len()
+    );
+    let config = |out: &str| -> serde_json::Value {
+        let m: serde_json::Value = serde_json::from_slice(
+            &fs::read(dir.path().join(out).join("pixels.state/manifest.json")).unwrap(),
+        )
+        .unwrap();
+        m["config"]["shift"].clone()
+    };
+    assert_eq!(config("plain"), serde_json::Value::Null);
+    assert_eq!(config("shifted"), "random");
+    let o = study("none", &["--shift", "none", "--samplers", "sobol"]);
+    fails_with(
+        &o,
+        "--shift none with the sobol sampler",
+        "--shift none + sobol",
+    );
 }

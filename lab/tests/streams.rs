@@ -68,6 +68,7 @@ fn no_two_cells_or_realisations_share_a_stream() {
         estimators: estimators.clone(),
         reference_lines: 4096,
         reference_realisations: 64,
+        shift: None,
     };
     let study = direct::PixelStudy::new(cfg).unwrap();
     let dl = study.streams();
@@ -96,6 +97,7 @@ fn no_two_cells_or_realisations_share_a_stream() {
             rows: caustic::study_rows(&[SceneSampler::Random, SceneSampler::Jittered]),
             reference_beams: 4096,
             reference_realisations: 64,
+            shift: None,
         };
         let study = caustic::Study::new(cfg).unwrap();
         streams.extend(study.streams().into_iter().map(|s| (s, 64)));

@@ -52,6 +52,7 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{EffectKind, SceneSampler};
+use crate::spec::{scene_shift, ShiftMode};
 use crate::streams::{Part, Realisations, Stream};
 
 /// The study's runner kind.
@@ -184,12 +185,19 @@ pub enum Pattern {
 }
 
 impl Pattern {
-    /// `sampler`'s pattern of `n` points in `k` dimensions.
+    /// `sampler`'s pattern of `n` points in `k` dimensions, shifted per
+    /// realisation as [`scene_shift`] says for `shift` (by default Sobol′
+    /// only).
     ///
     /// # Errors
     /// A count the sampler cannot make (jittered in 2D or 3D needs a power
-    /// of two).
-    pub fn new(sampler: SceneSampler, k: usize, n: usize) -> Result<Self, String> {
+    /// of two), or `--shift none` with Sobol′.
+    pub fn new(
+        sampler: SceneSampler,
+        k: usize,
+        n: usize,
+        shift: Option<ShiftMode>,
+    ) -> Result<Self, String> {
         let s = sampler.pattern();
         let mut spec = PatternSpec::simple(s, k, n);
         if sampler == SceneSampler::Jittered {
@@ -197,7 +205,7 @@ impl Pattern {
                 format!("jittered in {k}D needs N a power of two (balanced strata), got {n}")
             })?);
         }
-        let shift = sampler == SceneSampler::Sobol;
+        let shift = scene_shift(sampler, shift)?;
         let err = |e: String| format!("{} in {k}D with N = {n}: {e}", sampler.name());
         Ok(match k {
             1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),
@@ -252,6 +260,8 @@ pub struct StudyConfig {
     /// Jittered beams per reference estimate.
     pub reference_beams: usize,
     pub reference_realisations: u64,
+    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
+    pub shift: Option<ShiftMode>,
 }
 
 /// One cell's statistics.
@@ -291,11 +301,12 @@ impl Study {
             SceneSampler::Jittered,
             Estimator::Beams.sample_dims(dims),
             config.reference_beams,
+            None,
         )
         .map_err(|e| format!("--reference-lines: {e}"))?;
         for (est, sampler) in &config.rows {
             for &n in &config.ns {
-                Pattern::new(*sampler, est.sample_dims(dims), n)
+                Pattern::new(*sampler, est.sample_dims(dims), n, config.shift)
                     .map_err(|e| format!("--pixel-n: {} {e}", est.name()))?;
                 cells.push(CellInfo {
                     label: format!("{} {} N={n}", est.name(), sampler.name()),
@@ -365,7 +376,9 @@ impl Experiment for Study {
             let (est, sampler) = cfg.rows[e];
             (est, sampler, cfg.ns[i], cfg.realisations)
         };
-        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n)?;
+        // The reference (jittered beams) is never shifted.
+        let shift = if index == 0 { None } else { cfg.shift };
+        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n, shift)?;
         let (rs, seconds) = ctx.realisations(
             total,
             CHUNK,
@@ -922,7 +935,7 @@ pub fn run_image(
         m
     };
     let t = Instant::now();
-    let pattern = Pattern::new(SceneSampler::Jittered, k, m)?;
+    let pattern = Pattern::new(SceneSampler::Jittered, k, m, None)?;
     let mut x = buffer::empty(m, "fluence beams")?;
     let image_seed = Stream::new(EffectKind::VolumetricCaustic, scene.dims, Part::Fluence);
     pattern.fill(image_seed.seed(seed), m, &mut x)?;
@@ -1097,6 +1110,7 @@ pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
         study_rows(&samplers),
         a.reference_lines.unwrap_or(1 << 16),
         a.reference_realisations.unwrap_or(64),
+        a.run.shift.shift,
         &out,
         &opts,
     )
@@ -1117,6 +1131,7 @@ pub fn run_all(
     rows: Vec<(Estimator, SceneSampler)>,
     reference_beams: usize,
     reference_realisations: u64,
+    shift: Option<ShiftMode>,
     out: &Path,
     opts: &RunOptions,
 ) -> Result<(), String> {
@@ -1132,6 +1147,7 @@ pub fn run_all(
         rows,
         reference_beams,
         reference_realisations,
+        shift,
     })?;
     run_to_files(&exp, &out.join("study"), opts, Box::new(complete_study))
 }
@@ -1194,6 +1210,7 @@ pub fn paper_runs(
             study_rows(&[SceneSampler::Random, SceneSampler::Jittered]),
             1 << 16,
             64,
+            None,
             &dir.join(name),
             &quiet,
         )?;

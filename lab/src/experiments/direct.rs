@@ -55,6 +55,7 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
+use crate::spec::{scene_shift, ShiftMode};
 use crate::streams::{Part, Realisations, Stream};
 
 /// The image experiment's name.
@@ -549,19 +550,22 @@ pub struct Pattern {
 }
 
 impl Pattern {
-    /// `est`'s pattern of `n` samples. Patterns that are random by
-    /// construction (random, jittered, multi-jittered, CMJ) are used as they
-    /// are; the deterministic ones (Sobol′) get a random toroidal shift per
-    /// realisation. A shift would move a jittered pattern's strata off the
-    /// light's edges, and for lines along an edge the line function, seen
-    /// periodically, jumps there (the light's two opposite edges carry
-    /// different line integrals): jittered lines would be capped at `N⁻²`.
+    /// `est`'s pattern of `n` samples, shifted per realisation as
+    /// [`scene_shift`] says for `shift` (`--shift`). By default patterns
+    /// that are random by construction (random, jittered, multi-jittered,
+    /// CMJ) are used as they are, and the deterministic ones (Sobol′) get a
+    /// random toroidal shift per realisation. A shift would move a jittered
+    /// pattern's strata off the light's edges, and for lines along an edge
+    /// the line function, seen periodically, jumps there (the light's two
+    /// opposite edges carry different line integrals): jittered lines would
+    /// be capped at `N⁻²` (what `--shift random` shows).
     ///
     /// # Errors
-    /// A sample count the sampler does not support.
-    pub fn new(est: &DlEstimator, n: usize) -> Result<Self, String> {
+    /// A sample count the sampler does not support, or `--shift none` with
+    /// Sobol′.
+    pub fn new(est: &DlEstimator, n: usize, shift: Option<ShiftMode>) -> Result<Self, String> {
         let s = est.sampler.pattern();
-        let shift = est.sampler == SceneSampler::Sobol;
+        let shift = scene_shift(est.sampler, shift)?;
         let err = |e: String| format!("{} with N = {n}: {e}", est.label());
         // Multi-jittered and CMJ exist only in 2D: lines take the u
         // coordinates, whose projection is stratified into N strata.
@@ -698,6 +702,8 @@ pub struct ImagesConfig {
     pub reference_lines: usize,
     pub reference_realisations: u64,
     pub rows_per_cell: u32,
+    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
+    pub shift: Option<ShiftMode>,
 }
 
 /// One block of rows.
@@ -766,11 +772,12 @@ impl Experiment for Images {
         let y1 = (y0 + rows).min(cfg.height);
         let count = ((y1 - y0) * cfg.width) as usize;
         let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
-        let reference = Pattern::new(&REFERENCE, cfg.reference_lines)?;
+        // The reference is never shifted (jittered lines along an edge).
+        let reference = Pattern::new(&REFERENCE, cfg.reference_lines, None)?;
         let mut patterns = Vec::with_capacity(ne * nl);
         for e in &cfg.estimators {
             for &n in &cfg.ladder {
-                patterns.push(Pattern::new(e, n)?);
+                patterns.push(Pattern::new(e, n, cfg.shift)?);
             }
         }
         let at_n = cfg
@@ -1443,6 +1450,8 @@ pub struct PixelConfig {
     pub estimators: Vec<DlEstimator>,
     pub reference_lines: usize,
     pub reference_realisations: u64,
+    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
+    pub shift: Option<ShiftMode>,
 }
 
 /// One cell: a reference (`row = None`) or a row's statistics.
@@ -1525,7 +1534,7 @@ impl PixelStudy {
             });
             for (e, est) in config.estimators.iter().enumerate() {
                 for (i, &n) in config.ns.iter().enumerate() {
-                    Pattern::new(est, n)?;
+                    Pattern::new(est, n, config.shift)?;
                     jobs.push(Job {
                         pixel: p,
                         row: Some((e, i)),
@@ -1570,7 +1579,8 @@ impl Experiment for PixelStudy {
             None => (REFERENCE, cfg.reference_lines, cfg.reference_realisations),
             Some((e, i)) => (cfg.estimators[e], cfg.ns[i], cfg.realisations),
         };
-        let pattern = Pattern::new(&est, n)?;
+        let shift = if job.row.is_some() { cfg.shift } else { None };
+        let pattern = Pattern::new(&est, n, shift)?;
         let (rs, seconds) = ctx.realisations(
             total,
             CHUNK,
@@ -1891,6 +1901,7 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
         estimators: study_estimators(scene, &samplers),
         reference_lines: a.reference_lines.unwrap_or(4096),
         reference_realisations: a.reference_realisations.unwrap_or(64),
+        shift: a.run.shift.shift,
     };
     if let Some((x, y)) = a.pixel {
         let exp = PixelStudy::new(pixel_config(vec![("P".into(), x, y)]))?;
@@ -1913,6 +1924,7 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
         a.variance_realisations,
         a.reference_lines.unwrap_or(256),
         a.reference_realisations.unwrap_or(4),
+        a.run.shift.shift,
         out,
         &opts,
     )?;
@@ -1938,6 +1950,7 @@ pub fn run_images(
     variance_realisations: u64,
     reference_lines: usize,
     reference_realisations: u64,
+    shift: Option<ShiftMode>,
     out: &Path,
     opts: &crate::runner::RunOptions,
 ) -> Result<Option<Chosen>, String> {
@@ -1953,6 +1966,7 @@ pub fn run_images(
         reference_lines,
         reference_realisations,
         rows_per_cell: 8,
+        shift,
     };
     let exp = Images::new(config)?;
     let mut chosen = None;
@@ -2050,6 +2064,7 @@ pub fn paper_runs(
         8,
         256,
         4,
+        None,
         dir,
         &quiet,
     )?;
@@ -2068,6 +2083,7 @@ pub fn paper_runs(
         estimators: study_estimators(&scene, &[SceneSampler::Random, SceneSampler::Jittered]),
         reference_lines: 4096,
         reference_realisations: 64,
+        shift: None,
     })?;
     run_to_files(&exp, &dir.join("pixels"), &quiet, Box::new(complete_pixels))
 }
