@@ -19,7 +19,9 @@ use crate::scene::{CentrePdf, SceneSampler};
 #[macro_export]
 macro_rules! files_note {
     () => {
-        "Files: every group of files (e.g. PREFIX.csv + PREFIX.svg) is written to uniquely
+        "Files: every command's --out is a folder (its state is kept in OUT.state/ beside
+it). Every group of files (e.g. OUT/convergence.csv + .svg + OUT/manifest.json) is
+written to uniquely
 named temporary files next to the targets and renamed into place only when all
 are complete; on any failure the temporaries are removed and existing files are
 left byte-for-byte unchanged. Errors print one line `error: <message>` on stderr
@@ -89,7 +91,7 @@ pub enum Command {
     /// --shard and merge); --mode reduced is a small end-to-end check.
     #[command(after_long_help = paper::report::FORMATS)]
     Paper(PaperArgs),
-    /// Write one pattern as PREFIX.txt (points) and PREFIX.svg (plot).
+    /// Write one pattern as OUT/points.txt (points) and OUT/points.svg (plot).
     #[command(after_long_help = patterns::FORMATS)]
     Patterns(PatternsArgs),
     /// Write every sampler in 2D and 3D with its spectrum and an index (the
@@ -111,7 +113,7 @@ pub enum Command {
     /// microseconds, which excludes formatting and file output; the mean <N*P>
     /// over the low rings 1..round(sqrt(N)/4) and the high rings ceil(k/2)..k;
     /// files) and writes the same rows to OUT_DIR/index.csv (file names relative
-    /// to OUT_DIR; spectrum = the spectrum files' prefix) under the header
+    /// to OUT_DIR; spectrum = the spectrum files' common stem) under the header
     /// sampler,dims,n,seed,median_us,txt,svg,np_low,np_high,spectrum.
     ///
     /// Cells: one per pattern, run one after another so that the timings are
@@ -119,7 +121,8 @@ pub enum Command {
     #[command(after_long_help = gallery::FORMATS)]
     Gallery(GalleryArgs),
     /// Measure how the variance of one estimator falls as N grows; write
-    /// PREFIX.csv (table), PREFIX.svg (log-log plot) and PREFIX.json (manifest).
+    /// OUT/convergence.csv (table), OUT/convergence.svg (log-log plot) and
+    /// OUT/manifest.json (manifest).
     ///
     /// For each N in --n it runs R (--realisations) independent realisations of
     /// one estimator of the integral of --integrand over the unit torus [0,1)^D:
@@ -145,9 +148,9 @@ pub enum Command {
     #[command(after_long_help = convergence::FORMATS)]
     Convergence(ConvergenceArgs),
     /// Measure the mean periodogram <N*P(nu)> of a pattern, of segments or lines
-    /// through it, or of point sets read from files; write PREFIX.png (log-scale
-    /// image), PREFIX-radial.csv and PREFIX-radial.svg (radial average) and
-    /// PREFIX.json (manifest).
+    /// through it, or of point sets read from files; write OUT/spectrum.png
+    /// (log-scale image), OUT/spectrum-radial.csv and OUT/spectrum-radial.svg
+    /// (radial average) and OUT/manifest.json (manifest).
     ///
     /// For each of R realisations (--realizations; realisation r of a sampler
     /// uses the points of `patterns --seed SEED --realization r`; with --input
@@ -540,17 +543,23 @@ pub struct PatternsArgs {
     #[command(flatten)]
     pub shift: ShiftArgs,
 
-    /// Output path prefix; writes PREFIX.txt and PREFIX.svg, creating parent
-    /// directories (default: `out/patterns/<sampler>-<dims>d-<N>`).
-    #[arg(long, value_name = "PREFIX")]
+    /// Output folder; writes OUT/points.txt and OUT/points.svg, creating it
+    /// (default: `out/patterns/<sampler>-<dims>d-<N>`).
+    #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 }
 
 /// Options of `linesample-lab gallery`.
 #[derive(Clone, Debug, Args)]
 pub struct GalleryArgs {
-    /// Directory for the pattern files and index.csv.
-    #[arg(long, value_name = "DIR", default_value = "out/patterns")]
+    /// Output folder for the pattern files and index.csv (`--out-dir` is
+    /// an alias); its state is kept in OUT.state/.
+    #[arg(
+        long = "out",
+        visible_alias = "out-dir",
+        value_name = "DIR",
+        default_value = "out/patterns"
+    )]
     pub out_dir: PathBuf,
 
     /// Timed fills per pattern; the table reports the median.
@@ -623,11 +632,12 @@ pub struct SpectrumArgs {
     #[arg(long, value_name = "FILE", num_args = 1..)]
     pub input: Vec<PathBuf>,
 
-    /// Output path prefix; writes PREFIX.png, PREFIX-radial.csv and
-    /// PREFIX-radial.svg, creating parent directories (default:
+    /// Output folder; writes OUT/spectrum.png, OUT/spectrum-radial.csv,
+    /// OUT/spectrum-radial.svg and OUT/manifest.json, creating it (default:
     /// `out/spectrum/<sampler or first input's stem>-<D>d-<N>`, with
-    /// `-segments` or `-lines` appended for those primitives).
-    #[arg(long, value_name = "PREFIX")]
+    /// `-segments` or `-lines` appended for those primitives); its state is
+    /// kept in OUT.state/.
+    #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
     #[command(flatten)]
@@ -747,10 +757,11 @@ pub struct ConvergenceArgs {
     )]
     pub realisations: u64,
 
-    /// Output path prefix; writes PREFIX.csv, PREFIX.svg and PREFIX.json,
-    /// creating parent directories (default:
-    /// `out/convergence/<integrand>-<dims>d-<primitive>-<sampler>`).
-    #[arg(long, value_name = "PREFIX")]
+    /// Output folder; writes OUT/convergence.csv, OUT/convergence.svg and
+    /// OUT/manifest.json, creating it (default:
+    /// `out/convergence/<integrand>-<dims>d-<primitive>-<sampler>`); its
+    /// state is kept in OUT.state/.
+    #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,
 
     #[command(flatten)]
@@ -760,8 +771,8 @@ pub struct ConvergenceArgs {
 /// Options of `linesample-lab merge`.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
-    /// Where the merged outputs go: the --out (prefix, or directory for
-    /// gallery) an unsharded run would have used.
+    /// Where the merged outputs go: the --out folder an unsharded run would
+    /// have used.
     #[arg(long, value_name = "OUT")]
     pub out: PathBuf,
 

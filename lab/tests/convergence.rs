@@ -53,7 +53,7 @@ fn writes_csv_svg_and_manifest() {
     assert!(out.contains("slope of log Var vs log N"), "{out}");
     assert!(out.contains("bias z") && out.contains("Var*N"), "{out}");
 
-    let (comments, header, rows) = csv_table(&dir.path().join("res/disk.csv"));
+    let (comments, header, rows) = csv_table(&dir.path().join("res/disk/convergence.csv"));
     assert_eq!(header.join(","), CONVERGENCE_HEADER);
     assert!(comments
         .iter()
@@ -79,7 +79,7 @@ fn writes_csv_svg_and_manifest() {
         check_bias(mean, mean_se, exact, z, var, 50, &format!("N = {n}"));
     }
 
-    let svg = fs::read_to_string(dir.path().join("res/disk.svg")).unwrap();
+    let svg = fs::read_to_string(dir.path().join("res/disk/convergence.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert!(svg.contains("disk 2D, points, jittered, R = 50"), "title");
     // Two data points (error-bar markers) and the legend marker; the fit and
@@ -95,7 +95,8 @@ fn writes_csv_svg_and_manifest() {
         assert!(svg.contains(label), "{label}");
     }
     let manifest: serde_json::Value =
-        serde_json::from_slice(&fs::read(dir.path().join("res/disk.json")).unwrap()).unwrap();
+        serde_json::from_slice(&fs::read(dir.path().join("res/disk/manifest.json")).unwrap())
+            .unwrap();
     assert_eq!(manifest["experiment"], "convergence");
     assert_eq!(manifest["config"]["realisations"], 50);
     assert_eq!(manifest["config"]["seed"], 1);
@@ -108,7 +109,12 @@ fn writes_csv_svg_and_manifest() {
     no_tmp_files(&dir);
     assert_eq!(
         dir.files(),
-        ["res/disk.csv", "res/disk.json", "res/disk.svg"].map(PathBuf::from)
+        [
+            "res/disk/convergence.csv",
+            "res/disk/convergence.svg",
+            "res/disk/manifest.json"
+        ]
+        .map(PathBuf::from)
     );
     let state = dir.all_files();
     assert!(
@@ -149,8 +155,8 @@ fn independent_of_the_thread_count() {
             args.extend(extra);
             ok(&lab(&dir, &args), &format!("{args:?}"));
             (
-                fs::read(dir.path().join(format!("{out}.csv"))).unwrap(),
-                fs::read(dir.path().join(format!("{out}.svg"))).unwrap(),
+                fs::read(dir.path().join(format!("{out}/convergence.csv"))).unwrap(),
+                fs::read(dir.path().join(format!("{out}/convergence.svg"))).unwrap(),
             )
         };
         let one = run("1");
@@ -173,14 +179,14 @@ fn rounds_jittered_counts_and_has_a_default_path() {
     assert!(out.contains("--n 10 -> N = 9"), "{out}");
     let (comments, _, rows) = csv_table(
         &dir.path()
-            .join("out/convergence/disk-2d-points-jittered.csv"),
+            .join("out/convergence/disk-2d-points-jittered/convergence.csv"),
     );
     assert!(comments.iter().any(|c| c.contains("--n 60 -> N = 64")));
     let ns: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
     assert_eq!(ns, ["9", "64"]);
     assert!(dir
         .path()
-        .join("out/convergence/disk-2d-points-jittered.svg")
+        .join("out/convergence/disk-2d-points-jittered/convergence.svg")
         .is_file());
     // Lines in 3D use a 2D offset pattern: 100 is already a square.
     let o = lab(
@@ -202,7 +208,7 @@ fn rounds_jittered_counts_and_has_a_default_path() {
         ],
     );
     ok(&o, "3D lines");
-    let (_, _, rows) = csv_table(&dir.path().join("b.csv"));
+    let (_, _, rows) = csv_table(&dir.path().join("b/convergence.csv"));
     let ns: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
     assert_eq!(ns, ["4", "100"]);
     assert!(!stdout(&o).contains("note:"));
@@ -319,9 +325,9 @@ fn help_is_specific() {
         "variance",
         "toroidal shift",
         "weighted least squares",
-        "PREFIX.csv",
-        "PREFIX.svg",
-        "PREFIX.json",
+        "OUT/convergence.csv",
+        "OUT/convergence.svg",
+        "OUT/manifest.json",
         "bias z-score",
         "--threads",
         "--groups",
@@ -331,7 +337,7 @@ fn help_is_specific() {
         "--fresh",
         "--quiet",
         "--shift",
-        "PREFIX.state",
+        "OUT.state",
     ] {
         assert!(h.contains(s), "help lacks {s}");
     }
@@ -412,7 +418,8 @@ fn runs_every_integrand_and_primitive() {
         ];
         full.extend(args);
         ok(&lab(&dir, &full), &format!("{full:?}"));
-        let (comments, header, rows) = csv_table(&dir.path().join(format!("{out}.csv")));
+        let (comments, header, rows) =
+            csv_table(&dir.path().join(format!("{out}/convergence.csv")));
         assert_eq!(header.join(","), CONVERGENCE_HEADER);
         assert_eq!(rows.len(), 2, "{full:?}");
         if args.contains(&"none") {

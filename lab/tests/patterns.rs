@@ -42,8 +42,8 @@ fn writes_points_and_svg() {
         let o = lab(&dir, &args);
         ok(&o, &format!("{args:?}"));
         let d: usize = dims.parse().unwrap();
-        check_points(&dir.path().join(format!("{prefix}.txt")), n, d);
-        let svg = dir.path().join(format!("{prefix}.svg"));
+        check_points(&dir.path().join(format!("{prefix}/points.txt")), n, d);
+        let svg = dir.path().join(format!("{prefix}/points.svg"));
         assert_eq!(circles(&svg), n * circles_per_point, "{args:?}");
         let text = fs::read_to_string(&svg).unwrap();
         assert!(
@@ -73,7 +73,7 @@ fn deterministic_and_realizations_differ() {
         ];
         args.extend(shift);
         ok(&lab(&dir, &args), out);
-        fs::read_to_string(dir.path().join(format!("{out}.txt"))).unwrap()
+        fs::read_to_string(dir.path().join(format!("{out}/points.txt"))).unwrap()
     };
     assert_eq!(run("a", "0", &[]), run("b", "0", &[]));
     assert_ne!(run("a", "0", &[]), run("c", "1", &[]));
@@ -88,16 +88,20 @@ fn default_output_path() {
         &lab(&dir, &["patterns", "--sampler", "halton", "-n", "32"]),
         "halton",
     );
-    check_points(&dir.path().join("out/patterns/halton-2d-32.txt"), 32, 2);
+    check_points(
+        &dir.path().join("out/patterns/halton-2d-32/points.txt"),
+        32,
+        2,
+    );
     assert_eq!(
-        circles(&dir.path().join("out/patterns/halton-2d-32.svg")),
+        circles(&dir.path().join("out/patterns/halton-2d-32/points.svg")),
         32
     );
     assert_eq!(
         dir.files(),
         [
-            PathBuf::from("out/patterns/halton-2d-32.svg"),
-            PathBuf::from("out/patterns/halton-2d-32.txt")
+            PathBuf::from("out/patterns/halton-2d-32/points.svg"),
+            PathBuf::from("out/patterns/halton-2d-32/points.txt")
         ]
     );
 }
@@ -176,7 +180,7 @@ fn bad_input_fails_cleanly() {
 #[test]
 fn unwritable_output_fails_without_partial_files() {
     let dir = TempDir::new("unwritable");
-    // `blocker` is a file, so `blocker/p.txt` cannot be created.
+    // `blocker` is a file, so `blocker/p/points.txt` cannot be created.
     fs::write(dir.path().join("blocker"), "x").unwrap();
     let o = lab(
         &dir,
@@ -224,7 +228,7 @@ fn poisson_disk_and_ccvt_patterns() {
         ),
         "pd",
     );
-    check_points(&dir.path().join("pd.txt"), 200, 2);
+    check_points(&dir.path().join("pd/points.txt"), 200, 2);
     ok(
         &lab(
             &dir,
@@ -242,7 +246,7 @@ fn poisson_disk_and_ccvt_patterns() {
         ),
         "ccvt",
     );
-    check_points(&dir.path().join("cv.txt"), 64, 3);
+    check_points(&dir.path().join("cv/points.txt"), 64, 3);
     // Bridson at the densest relative radius cannot fit N points: a clear error.
     let o = lab(
         &dir,
@@ -260,7 +264,7 @@ fn poisson_disk_and_ccvt_patterns() {
         ],
     );
     fails_with(&o, "relative-radius", "bridson shortfall");
-    assert!(!dir.path().join("bad.txt").exists());
+    assert!(!dir.path().join("bad").exists());
     // Options of other samplers are rejected.
     let o = lab(
         &dir,

@@ -79,18 +79,19 @@ fn two_shard_processes_merge_to_the_single_run() {
         cells(&dir, "s2.state"),
         ["000001.bin", "000003.bin", "000005.bin"]
     );
-    assert!(!dir.path().join("s1.csv").exists());
+    assert!(!dir.path().join("s1/convergence.csv").exists());
     let o = lab(&dir, &["merge", "--out", "merged", "s1", "s2"]);
     ok(&o, "merge");
     for ext in ["csv", "svg"] {
         assert_eq!(
-            fs::read_to_string(dir.path().join(format!("single.{ext}"))).unwrap(),
-            fs::read_to_string(dir.path().join(format!("merged.{ext}"))).unwrap(),
+            fs::read_to_string(dir.path().join(format!("single/convergence.{ext}"))).unwrap(),
+            fs::read_to_string(dir.path().join(format!("merged/convergence.{ext}"))).unwrap(),
             "merged.{ext} differs from the single run"
         );
     }
     let m: serde_json::Value =
-        serde_json::from_slice(&fs::read(dir.path().join("merged.json")).unwrap()).unwrap();
+        serde_json::from_slice(&fs::read(dir.path().join("merged/manifest.json")).unwrap())
+            .unwrap();
     assert_eq!(m["merged_from"], serde_json::json!(["s1", "s2"]));
     // The merged state is complete: the unsharded command finds every cell.
     let o = lab(&dir, &with(&["--out", "merged"])[..SWEEP.len() + 2]);
@@ -132,7 +133,7 @@ fn two_shard_processes_merge_to_the_single_run() {
         "has not finished cell 3",
         "unfinished shard",
     );
-    assert!(!dir.path().join("m2.csv").exists());
+    assert!(!dir.path().join("m2/convergence.csv").exists());
 }
 
 #[test]
@@ -165,8 +166,8 @@ fn spectrum_shards_merge_to_the_single_run() {
     );
     for suffix in ["-radial.csv", ".png", "-radial.svg"] {
         assert_eq!(
-            fs::read(dir.path().join(format!("single{suffix}"))).unwrap(),
-            fs::read(dir.path().join(format!("merged{suffix}"))).unwrap(),
+            fs::read(dir.path().join(format!("single/spectrum{suffix}"))).unwrap(),
+            fs::read(dir.path().join(format!("merged/spectrum{suffix}"))).unwrap(),
             "{suffix}"
         );
     }
@@ -251,7 +252,7 @@ fn interrupted_run_resumes(signal: &str) {
     let done = cells(&dir, "run.state").len();
     assert!((1..20).contains(&done), "{done} cells at the signal");
     assert!(
-        !dir.path().join("run.csv").exists(),
+        !dir.path().join("run/convergence.csv").exists(),
         "no output from a stopped run"
     );
 
@@ -265,7 +266,7 @@ fn interrupted_run_resumes(signal: &str) {
         "no cell lost or duplicated"
     );
     let m: serde_json::Value =
-        serde_json::from_slice(&fs::read(dir.path().join("run.json")).unwrap()).unwrap();
+        serde_json::from_slice(&fs::read(dir.path().join("run/manifest.json")).unwrap()).unwrap();
     assert_eq!(
         (m["cells_resumed"].as_u64(), m["cells_computed"].as_u64()),
         (Some(done as u64), Some(20 - done as u64))
@@ -275,8 +276,8 @@ fn interrupted_run_resumes(signal: &str) {
     let full: Vec<&str> = full.iter().map(String::as_str).collect();
     ok(&lab(&dir, &full), "uninterrupted");
     assert_eq!(
-        fs::read_to_string(dir.path().join("run.csv")).unwrap(),
-        fs::read_to_string(dir.path().join("full.csv")).unwrap(),
+        fs::read_to_string(dir.path().join("run/convergence.csv")).unwrap(),
+        fs::read_to_string(dir.path().join("full/convergence.csv")).unwrap(),
         "the resumed run differs from the uninterrupted one"
     );
     no_tmp_files(&dir);
@@ -348,15 +349,15 @@ fn a_changed_configuration_is_refused_and_fresh_starts_over() {
     }
     let o = run("50", &["--fresh"]);
     ok(&o, "fresh");
-    let (_, _, rows) = csv_table(&dir.path().join("c.csv"));
+    let (_, _, rows) = csv_table(&dir.path().join("c/convergence.csv"));
     assert!(rows.iter().all(|r| r[1] == "50"));
 }
 
 #[test]
 fn a_group_that_fails_after_its_first_file_leaves_the_old_files() {
     let dir = TempDir::new("group");
-    fs::create_dir_all(dir.path().join("res/c.svg/keep")).unwrap();
-    fs::write(dir.path().join("res/c.csv"), "old table\n").unwrap();
+    fs::create_dir_all(dir.path().join("res/c/convergence.svg/keep")).unwrap();
+    fs::write(dir.path().join("res/c/convergence.csv"), "old table\n").unwrap();
     let o = lab(
         &dir,
         &[
@@ -369,12 +370,12 @@ fn a_group_that_fails_after_its_first_file_leaves_the_old_files() {
             "res/c",
         ],
     );
-    fails_with(&o, "res/c.svg", "svg path is a directory");
+    fails_with(&o, "res/c/convergence.svg", "svg path is a directory");
     assert_eq!(
-        fs::read_to_string(dir.path().join("res/c.csv")).unwrap(),
+        fs::read_to_string(dir.path().join("res/c/convergence.csv")).unwrap(),
         "old table\n"
     );
-    assert!(!dir.path().join("res/c.json").exists());
+    assert!(!dir.path().join("res/c/manifest.json").exists());
     no_tmp_files(&dir);
 }
 
@@ -398,9 +399,10 @@ fn an_unwritable_folder_is_an_error_and_touches_nothing() {
     assert_eq!(dir.all_files(), [PathBuf::from("blocker")]);
     // A read-only folder (effective only without root's override).
     let ro = dir.path().join("ro");
-    fs::create_dir(&ro).unwrap();
-    fs::write(ro.join("c.csv"), "old\n").unwrap();
+    fs::create_dir_all(ro.join("c")).unwrap();
+    fs::write(ro.join("c/convergence.csv"), "old\n").unwrap();
     use std::os::unix::fs::PermissionsExt;
+    fs::set_permissions(ro.join("c"), fs::Permissions::from_mode(0o555)).unwrap();
     fs::set_permissions(&ro, fs::Permissions::from_mode(0o555)).unwrap();
     if fs::write(ro.join("probe"), "x").is_ok() {
         let _ = fs::remove_file(ro.join("probe"));
@@ -419,9 +421,13 @@ fn an_unwritable_folder_is_an_error_and_touches_nothing() {
             ],
         );
         fails_with(&o, "ro/c", "read-only folder");
-        assert_eq!(fs::read_to_string(ro.join("c.csv")).unwrap(), "old\n");
+        assert_eq!(
+            fs::read_to_string(ro.join("c/convergence.csv")).unwrap(),
+            "old\n"
+        );
     }
     fs::set_permissions(&ro, fs::Permissions::from_mode(0o755)).unwrap();
+    fs::set_permissions(ro.join("c"), fs::Permissions::from_mode(0o755)).unwrap();
 }
 
 #[test]
@@ -513,7 +519,7 @@ fn a_damaged_cell_is_computed_again() {
         "c",
     ];
     ok(&lab(&dir, &args), "first");
-    let csv = fs::read(dir.path().join("c.csv")).unwrap();
+    let csv = fs::read(dir.path().join("c/convergence.csv")).unwrap();
     // An empty file (what a power loss can leave) and a truncated one.
     fs::write(dir.path().join("c.state/cells/000001.bin"), b"").unwrap();
     let b = fs::read(dir.path().join("c.state/cells/000002.bin")).unwrap();
@@ -534,7 +540,7 @@ fn a_damaged_cell_is_computed_again() {
         "{}",
         stdout(&o)
     );
-    assert_eq!(fs::read(dir.path().join("c.csv")).unwrap(), csv);
+    assert_eq!(fs::read(dir.path().join("c/convergence.csv")).unwrap(), csv);
     // Rewritten whole (its stored timings differ, its statistics do not: the
     // CSV above is byte-identical).
     assert_eq!(
@@ -560,7 +566,7 @@ fn a_reader_that_stops_early_does_not_break_the_run() {
         "first",
     );
     fs::remove_file(dir.path().join("c.state/cells/000001.bin")).unwrap();
-    fs::remove_file(dir.path().join("c.csv")).unwrap();
+    fs::remove_file(dir.path().join("c/convergence.csv")).unwrap();
     let cmd = format!("set -o pipefail; {run} | head -n 1 > /dev/null");
     let o = Command::new("bash")
         .args(["-c", &cmd])
@@ -568,7 +574,7 @@ fn a_reader_that_stops_early_does_not_break_the_run() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(dir.path().join("c.csv").is_file());
+    assert!(dir.path().join("c/convergence.csv").is_file());
 }
 
 #[test]

@@ -34,7 +34,7 @@ fn of_random_points() {
     let out = stdout(&o);
     assert!(out.contains("N = 64, k = 8"), "{out}");
     assert!(out.contains("ms/real."), "{out}");
-    let rows = spectrum_rows(&dir.path().join("res/white-radial.csv"));
+    let rows = spectrum_rows(&dir.path().join("res/white/spectrum-radial.csv"));
     assert_eq!(rows.len(), 8);
     let counts = ring_counts(8, 2);
     assert_eq!(counts[1], 8); // |ν|² ∈ {1, 2}
@@ -49,20 +49,20 @@ fn of_random_points() {
     }
     // 17 frequencies per side, upscaled 16x to at least 256 pixels; the DC
     // pixel block in the centre is white.
-    let (w, h, px) = png_gray(&dir.path().join("res/white.png"));
+    let (w, h, px) = png_gray(&dir.path().join("res/white/spectrum.png"));
     assert_eq!((w, h), (17 * 16, 17 * 16));
     assert_eq!(px[(8 * 16 + 3) * 272 + 8 * 16 + 3], 255);
-    let svg = fs::read_to_string(dir.path().join("res/white-radial.svg")).unwrap();
+    let svg = fs::read_to_string(dir.path().join("res/white/spectrum-radial.svg")).unwrap();
     assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     assert!(svg.contains("random 2D points, N = 64, R = 8"), "title");
     no_tmp_files(&dir);
     assert_eq!(
         dir.files(),
         [
-            "res/white-radial.csv",
-            "res/white-radial.svg",
-            "res/white.json",
-            "res/white.png"
+            "res/white/manifest.json",
+            "res/white/spectrum-radial.csv",
+            "res/white/spectrum-radial.svg",
+            "res/white/spectrum.png"
         ]
         .map(PathBuf::from)
     );
@@ -97,9 +97,9 @@ fn independent_of_the_thread_count() {
             threads,
         );
         (
-            fs::read(dir.path().join(format!("{out}-radial.csv"))).unwrap(),
-            fs::read(dir.path().join(format!("{out}.png"))).unwrap(),
-            fs::read(dir.path().join(format!("{out}-radial.svg"))).unwrap(),
+            fs::read(dir.path().join(format!("{out}/spectrum-radial.csv"))).unwrap(),
+            fs::read(dir.path().join(format!("{out}/spectrum.png"))).unwrap(),
+            fs::read(dir.path().join(format!("{out}/spectrum-radial.svg"))).unwrap(),
         )
     };
     let one = run("1");
@@ -146,8 +146,14 @@ fn reads_point_files() {
         "{}",
         stdout(&o)
     );
-    assert_eq!(spectrum_rows(&dir.path().join("files-radial.csv")).len(), 6);
-    assert_eq!(png_size(&dir.path().join("files.png")), (13 * 20, 13 * 20));
+    assert_eq!(
+        spectrum_rows(&dir.path().join("files/spectrum-radial.csv")).len(),
+        6
+    );
+    assert_eq!(
+        png_size(&dir.path().join("files/spectrum.png")),
+        (13 * 20, 13 * 20)
+    );
 
     // A changed input file is a changed configuration: refused, not mixed.
     fs::write(dir.path().join("b.pts"), utk.replacen("\t", " ", 1)).unwrap();
@@ -169,7 +175,10 @@ fn reads_point_files() {
         &lab(&dir, &["spectrum", "--input", "c.txt", "--k", "2"]),
         "3D file",
     );
-    assert!(dir.path().join("out/spectrum/c-3d-3-radial.csv").is_file());
+    assert!(dir
+        .path()
+        .join("out/spectrum/c-3d-3/spectrum-radial.csv")
+        .is_file());
 
     // Malformed: a bad number at line 3; nothing is written.
     let bad = TempDir::new("spectrum-bad-input");
@@ -243,9 +252,9 @@ fn of_segments_and_lines() {
         a.extend(["--out", out]);
         let o = lab(&dir, &a);
         ok(&o, &format!("{a:?}"));
-        let rows = spectrum_rows(&dir.path().join(format!("{out}-radial.csv")));
+        let rows = spectrum_rows(&dir.path().join(format!("{out}/spectrum-radial.csv")));
         assert!(!rows.is_empty() && rows.iter().all(|r| r.1 > 0.0), "{out}");
-        let png_path = dir.path().join(format!("{out}.png"));
+        let png_path = dir.path().join(format!("{out}/spectrum.png"));
         match png {
             Some(side) => assert_eq!(png_size(&png_path), (side, side), "{out}"),
             None => {
@@ -254,11 +263,11 @@ fn of_segments_and_lines() {
             }
         }
     }
-    let rows = spectrum_rows(&dir.path().join("pts3-radial.csv"));
+    let rows = spectrum_rows(&dir.path().join("pts3/spectrum-radial.csv"));
     let c3 = ring_counts(4, 3);
     assert!(rows.iter().all(|r| r.3 == c3[r.0]), "{rows:?}");
     assert_eq!(rows[0].3, 18); // |ν|² ∈ {1, 2}: 6 + 12
-    let rows = spectrum_rows(&dir.path().join("lines2-radial.csv"));
+    let rows = spectrum_rows(&dir.path().join("lines2/spectrum-radial.csv"));
     assert!(rows.iter().all(|r| r.3 == 2), "{rows:?}");
     no_tmp_files(&dir);
 
@@ -317,7 +326,8 @@ fn help_documents_the_formats() {
         "direct",
         "point-count header",
         "--shift",
-        "PREFIX.state",
+        "OUT.state",
+        "OUT/spectrum-radial.csv",
     ] {
         assert!(help.contains(want), "{want}: {help}");
     }
@@ -359,7 +369,9 @@ fn nufft_matches_direct_to_its_tolerance() {
             let o = lab(&dir, &args);
             ok(&o, &format!("{args:?}"));
             assert!(stdout(&o).contains(&format!("method {method}")));
-            rows.push(spectrum_rows(&dir.path().join(format!("{out}-radial.csv"))));
+            rows.push(spectrum_rows(
+                &dir.path().join(format!("{out}/spectrum-radial.csv")),
+            ));
         }
         let tol: f64 = tol.parse().unwrap();
         // The NUFFT's contract: relative l2 error ‖F̃ − F‖₂ ≤ ε‖F‖₂ per
@@ -406,7 +418,7 @@ fn nufft_matches_direct_to_its_tolerance() {
             ),
             "direct-all",
         );
-        let all = spectrum_rows(&dir.path().join(format!("{out}-radial.csv")));
+        let all = spectrum_rows(&dir.path().join(format!("{out}/spectrum-radial.csv")));
         let n = 64.0;
         let a_total = n * n + n * all.iter().map(|r| r.3 as f64 * r.1).sum::<f64>();
         let eps = 2f64.sqrt() * tol;
@@ -576,4 +588,36 @@ fn summary_is_the_kernels_periodogram() {
         assert!((a - b).abs() <= 1e-12 * a.abs().max(1.0), "{a} vs {b}");
     }
     assert_ne!(s.mean, t.mean, "the shift is applied (rounding differs)");
+}
+
+/// `--out` is a folder, as for every command: an existing folder takes the
+/// files (it was refused as "not a file prefix"), a file is refused.
+#[test]
+fn out_is_a_folder() {
+    let dir = TempDir::new("spectrum-out-folder");
+    fs::create_dir(dir.path().join("here")).unwrap();
+    let args = |out: &'static str| {
+        vec![
+            "spectrum",
+            "--sampler",
+            "random",
+            "-n",
+            "16",
+            "--realizations",
+            "2",
+            "--out",
+            out,
+        ]
+    };
+    ok(&lab(&dir, &args("here")), "an existing folder");
+    let (_, header, rows) = csv_table(&dir.path().join("here/spectrum-radial.csv"));
+    assert_eq!(header.join(","), "radius,mean_np,std_error,count");
+    assert!(!rows.is_empty());
+    assert!(dir.path().join("here/manifest.json").is_file());
+    fs::write(dir.path().join("afile"), "x").unwrap();
+    fails_with(
+        &lab(&dir, &args("afile")),
+        "--out afile: expected an output folder, but it is a file",
+        "a file",
+    );
 }

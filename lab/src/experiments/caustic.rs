@@ -676,22 +676,20 @@ pub fn complete_study(
          bias_z = (mean − reference)/combined SE",
         cfg.source.path, cfg.realisations
     )];
-    group.add_bytes(dir.join("rows.csv"), &table::csv(&comments, &rows)?)?;
-    group.add_bytes(dir.join("slopes.csv"), &table::csv(&comments, &slopes)?)?;
+    group.add_csv(dir.join("rows.csv"), &comments, &rows)?;
+    group.add_csv(dir.join("slopes.csv"), &comments, &slopes)?;
     let parent = dir.parent().unwrap_or(dir);
-    group.add_bytes(
+    group.add_csv(
         parent.join("caustics.csv"),
-        &table::csv(
-            &[format!(
-                "slopes of variance vs N with 95 % intervals, fitted over the {TAIL} largest N \
+        &[format!(
+            "slopes of variance vs N with 95 % intervals, fitted over the {TAIL} largest N \
                  (study/slopes.csv also fits every N)"
-            )],
-            &caustics,
-        )?,
+        )],
+        &caustics,
     )?;
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push("manifest.json".into());
-    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files);
+    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {

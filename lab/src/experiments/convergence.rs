@@ -47,7 +47,7 @@ const REFERENCE_SLOPES: [f64; 4] = [-1.0, -1.5, -2.0, -3.0];
 /// Default `--length`.
 const DEFAULT_LENGTH: f64 = 0.1;
 
-/// The CSV header (the first line that does not start with `#`).
+/// The CSV header (the first line of `convergence.csv`).
 pub const CSV_HEADER: &str =
     "n,realisations,mean,mean_se,exact,bias_z,variance,variance_se,var_times_n";
 
@@ -55,11 +55,7 @@ pub const CSV_HEADER: &str =
 pub const FORMATS: &str = concat!(
     "\
 Output formats:
-  PREFIX.csv  comment lines starting with '#' (the command that reproduces the run
-              with every default filled in, the homogenisation (`# homogenised:
-              random toroidal shift per realisation`, or `# not homogenised` with
-              --shift none), the seeding rule, any rounding of N, the fitted
-              slope), then the header
+  OUT/convergence.csv  the header
                 n,realisations,mean,mean_se,exact,bias_z,variance,variance_se,var_times_n
               and one row per N: the number of primitives N per realisation, R, the
               sample mean of the R estimates and its standard error, the exact
@@ -68,19 +64,26 @@ Output formats:
               central moment), and Var*N. Numbers use Rust's shortest round-trip
               formatting (e.g. 1.2345e-5). No timings and no thread count appear in
               the CSV, so it is byte-identical for every --threads, and for a
-              sharded run merged with `linesample-lab merge`.
-  PREFIX.svg  log-log plot of Var against N with +-1 SE(Var) error bars, the fitted
+              sharded run merged with `linesample-lab merge`. Nothing precedes
+              the header: what the file's readers should know besides its rows
+              (the command that reproduces the run with every default filled
+              in, the homogenisation (`homogenised: random toroidal shift per
+              realisation`, or `not homogenised` with --shift none), the seeding
+              rule, any rounding of N and the fitted slope) is in
+              OUT/manifest.json under notes, key convergence.csv.
+  OUT/convergence.svg  log-log plot of Var against N with +-1 SE(Var) error bars, the fitted
               power law, reference slopes -1, -1.5, -2 and -3 (dashed, through
               the smallest N), and a title naming the integrand, primitive,
               sampler and R.
-  PREFIX.json the manifest: command, configuration (parameters and seeds), lab
-              version, threads, wall time and time per cell.
+  OUT/manifest.json  the manifest: command, configuration (parameters and
+              seeds), lab version, threads, wall time, time per cell, and the
+              notes on convergence.csv.
 
 The printed table adds the time per realisation in microseconds: the wall time of
 each chunk of realisations, summed over the row's chunks and divided by R (so it
 does not shrink with --threads; a busy machine inflates it).
 
-Runs: one cell per N, kept in PREFIX.state/ (resume, --fresh, --shard, merge,
+Runs: one cell per N, kept in OUT.state/ (resume, --fresh, --shard, merge,
 progress: see `linesample-lab --help`).
 
 ",
@@ -472,7 +475,7 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
         notes,
     };
     let out = a.out.clone().unwrap_or_else(|| config.default_out());
-    io::check_prefix("--out", &out, "out/conv")?;
+    io::check_folder("--out", &out)?;
     Ok((config, out))
 }
 
@@ -859,11 +862,10 @@ struct CsvRow {
     var_times_n: f64,
 }
 
-/// The CSV table of `res` (format in [`FORMATS`]).
-///
-/// # Errors
-/// Only on an internal serialisation error.
-pub fn csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
+/// What the manifest says about `convergence.csv` (format in [`FORMATS`]):
+/// the command, the homogenisation, the seeding rule, notes, the fit.
+#[must_use]
+pub fn csv_notes(cfg: &Config, res: &Results) -> Vec<String> {
     let mut comments = vec![cfg.command()];
     comments.push(match cfg.shift {
         ShiftMode::Random => "homogenised: random toroidal shift per realisation".into(),
@@ -879,8 +881,13 @@ pub fn csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
     ));
     comments.extend(cfg.notes.iter().map(|n| format!("note: {n}")));
     comments.push(fit_line(res.fit.as_ref()));
-    let rows: Vec<CsvRow> = res
-        .rows
+    comments
+}
+
+/// The rows of `convergence.csv` (format in [`FORMATS`]).
+#[must_use]
+fn csv_rows(cfg: &Config, res: &Results) -> Vec<CsvRow> {
+    res.rows
         .iter()
         .map(|r| CsvRow {
             n: r.row.n,
@@ -893,8 +900,7 @@ pub fn csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
             variance_se: r.variance_se,
             var_times_n: r.variance * r.row.n as f64,
         })
-        .collect();
-    table::csv(&comments, &rows)
+        .collect()
 }
 
 /// The log-log plot of `res`.
@@ -989,8 +995,8 @@ pub fn report(cfg: &Config, res: &Results, threads: usize) -> String {
     s
 }
 
-/// Writes `PREFIX.csv`, `PREFIX.svg` and `PREFIX.json` as one group and prints
-/// the table (unless `quiet`).
+/// Writes `OUT/convergence.csv`, `OUT/convergence.svg` and
+/// `OUT/manifest.json` as one group and prints the table (unless `quiet`).
 ///
 /// # Errors
 /// A drawing or I/O error.
@@ -1004,15 +1010,15 @@ pub fn complete(
     let cfg = &exp.config;
     let res = exp.results(cells)?;
     let (csv_path, svg_path, json_path) = (
-        io::suffixed(out, ".csv"),
-        io::suffixed(out, ".svg"),
-        io::suffixed(out, ".json"),
+        out.join("convergence.csv"),
+        out.join("convergence.svg"),
+        out.join("manifest.json"),
     );
     let mut group = FileGroup::new();
-    group.add_bytes(&csv_path, &csv(cfg, &res)?)?;
+    group.add_csv(&csv_path, &csv_notes(cfg, &res), &csv_rows(cfg, &res))?;
     group.add_bytes(&svg_path, svg(cfg, &res)?.as_bytes())?;
     let files = [&csv_path, &svg_path].map(|p| file_name(p)).to_vec();
-    let manifest = OutputManifest::new(KIND, cfg.command(), cfg, info, files);
+    let manifest = OutputManifest::new(KIND, cfg.command(), cfg, info, files).with_notes(&group);
     group.add_bytes(&json_path, &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {

@@ -1373,11 +1373,12 @@ pub fn complete_images(
          the cells"
             .into(),
     ];
-    group.add_bytes(dir.join("images.csv"), &table::csv(&comments, &rows)?)?;
+    group.add_csv(dir.join("images.csv"), &comments, &rows)?;
     group.add_bytes(dir.join("pixels.json"), &io::json(&chosen)?)?;
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push("manifest.json".into());
-    let manifest = OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files);
+    let manifest =
+        OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {
@@ -1820,19 +1821,18 @@ pub fn complete_pixels(
         "scene {}; {} realisations per row; bias_z = (mean − reference)/combined SE",
         cfg.source.path, cfg.realisations
     )];
-    group.add_bytes(dir.join("rows.csv"), &table::csv(&comments, &rows)?)?;
-    group.add_bytes(dir.join("slopes.csv"), &table::csv(&comments, &slopes)?)?;
+    group.add_csv(dir.join("rows.csv"), &comments, &rows)?;
+    group.add_csv(dir.join("slopes.csv"), &comments, &slopes)?;
     let parent = dir.parent().unwrap_or(dir);
-    group.add_bytes(
+    group.add_csv(
         parent.join("orientation.csv"),
-        &table::csv(
-            &["slopes of variance vs N with 95 % intervals, jittered patterns".to_string()],
-            &orientation,
-        )?,
+        &["slopes of variance vs N with 95 % intervals, jittered patterns".to_string()],
+        &orientation,
     )?;
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push("manifest.json".into());
-    let manifest = OutputManifest::new(PIXEL_KIND, reproduce_pixels(cfg), cfg, info, files);
+    let manifest =
+        OutputManifest::new(PIXEL_KIND, reproduce_pixels(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {

@@ -273,10 +273,10 @@ pub fn complete(
         });
     }
     let index = dir.join("index.csv");
-    group.add_bytes(&index, &table::csv(&[], &rows)?)?;
+    group.add_bytes(&index, &table::csv(&rows)?)?;
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push("manifest.json".into());
-    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files);
+    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {

@@ -94,6 +94,10 @@ pub struct OutputManifest<'a, C: Serialize> {
     pub merged_from: Vec<String>,
     /// The output files, relative to the manifest's folder.
     pub files: Vec<String>,
+    /// What the readers of each CSV should know besides its rows (the
+    /// command, the rules behind a column), by file name. The CSVs
+    /// themselves start with their header.
+    pub notes: std::collections::BTreeMap<String, Vec<String>>,
 }
 
 impl<'a, C: Serialize> OutputManifest<'a, C> {
@@ -123,7 +127,15 @@ impl<'a, C: Serialize> OutputManifest<'a, C> {
                 .map(|p| p.display().to_string())
                 .collect(),
             files,
+            notes: std::collections::BTreeMap::new(),
         }
+    }
+
+    /// The same manifest with the notes of the CSVs staged in `group`.
+    #[must_use]
+    pub fn with_notes(mut self, group: &crate::io::FileGroup) -> Self {
+        self.notes.clone_from(group.notes());
+        self
     }
 }
 

@@ -16,11 +16,11 @@ use crate::sampler::{self, PatternSpec, Sampler};
 pub const FORMATS: &str = concat!(
     "\
 Output formats:
-  PREFIX.txt  one point per line, its D coordinates separated by single spaces,
+  OUT/points.txt  one point per line, its D coordinates separated by single spaces,
               each the shortest decimal that round-trips the f32 (e.g. 0.25 0.7312012);
               every coordinate is in [0, 1). This is the point-file format the
               UTK toolkit reads.
-  PREFIX.svg  scatter plot of the unit square (axes with tick labels, one <circle>
+  OUT/points.svg  scatter plot of the unit square (axes with tick labels, one <circle>
               per point) under a title naming sampler, dimension, N, seed,
               realization and shift. 1D: the points on the segment [0, 1]. 3D: the
               projections xy, xz and yz side by side (3N circles). At most 65536
@@ -173,7 +173,7 @@ pub fn main(a: &PatternsArgs) -> Result<(), String> {
     };
     let shift = a.shift.shift == Some(ShiftMode::Random);
     if let Some(out) = &a.out {
-        io::check_prefix("--out", out, "out/pts")?;
+        io::check_folder("--out", out)?;
     }
     let points = generate(
         &spec,
@@ -181,10 +181,11 @@ pub fn main(a: &PatternsArgs) -> Result<(), String> {
         Seed::new(a.seed).realization(a.realization),
         1,
     )?;
-    let prefix = match &a.out {
+    let dir = match &a.out {
         Some(p) => p.clone(),
         None => Path::new("out/patterns").join(default_stem(sampler, spec.dims, points.len())),
     };
+    let prefix = dir.join("points");
     let mut group = FileGroup::new();
     let t = title(sampler, &points, a.seed, a.realization, shift);
     let (txt, svg) = stage(&mut group, &prefix, &points, &t)?;

@@ -855,10 +855,11 @@ pub fn complete_images(
          the cells, each cell on one thread"
             .into(),
     ];
-    group.add_bytes(dir.join("images.csv"), &table::csv(&comments, &rows)?)?;
+    group.add_csv(dir.join("images.csv"), &comments, &rows)?;
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push("manifest.json".into());
-    let manifest = OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files);
+    let manifest =
+        OutputManifest::new(KIND, reproduce_images(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(dir.join("manifest.json"), &io::json(&manifest)?)?;
     group.commit()?;
     if !quiet {
@@ -1669,14 +1670,8 @@ pub fn complete_pixel(
         "pixel ({x}, {y}) of {}; reference {:.6} +- {:.1e} ({})",
         cfg.source.path, doc.reference.value, doc.reference.se, doc.reference.method
     )];
-    group.add_bytes(
-        dir.join(format!("{stem}.csv")),
-        &table::csv(&comments, &rows)?,
-    )?;
-    group.add_bytes(
-        dir.join(format!("{stem}-slopes.csv")),
-        &table::csv(&comments, &slopes)?,
-    )?;
+    group.add_csv(dir.join(format!("{stem}.csv")), &comments, &rows)?;
+    group.add_csv(dir.join(format!("{stem}-slopes.csv")), &comments, &slopes)?;
     let title = format!("AO at pixel ({x}, {y}): variance against N");
     let svg = multi::multi(&Multi {
         title: &title,
@@ -1692,7 +1687,8 @@ pub fn complete_pixel(
     }
     let mut files: Vec<String> = group.targets().map(file_name).collect();
     files.push(format!("{stem}-manifest.json"));
-    let manifest = OutputManifest::new(PIXEL_KIND, reproduce_pixel(cfg), cfg, info, files);
+    let manifest =
+        OutputManifest::new(PIXEL_KIND, reproduce_pixel(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(
         dir.join(format!("{stem}-manifest.json")),
         &io::json(&manifest)?,

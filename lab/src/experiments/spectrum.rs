@@ -83,7 +83,7 @@ and the line. The manifest records each file's path, point count and CRC-32, so 
 rerun after a file changed is refused instead of mixing the two.
 
 Output formats:
-  PREFIX.png          8-bit grayscale image of the mean <N*P(nu)> on the full frequency
+  OUT/spectrum.png   8-bit grayscale image of the mean <N*P(nu)> on the full frequency
                       grid [-k, k]^2: one pixel per frequency (each side upscaled by the
                       smallest integer that makes it at least 256 pixels), the DC
                       term nu = 0 in the centre, nu_x growing to the right, nu_y
@@ -94,7 +94,8 @@ Output formats:
                       spectrum of the line offsets (3D lines along --axis A: the
                       two other axes in order). 1D spectra (1D points or segments,
                       2D lines) have no PNG.
-  PREFIX-radial.csv   the header
+  OUT/spectrum-radial.csv
+                      the header
                         radius,mean_np,std_error,count
                       and one row per ring r = 1..k: the ring holds the frequencies
                       with round(|nu|) = r; mean_np is the mean of <N*P> over them,
@@ -105,9 +106,10 @@ Output formats:
                       shortest round-trip formatting (e.g. 9.8765e-1). The CSV holds
                       no timings and no thread count: it is byte-identical for any
                       --threads, and for a sharded run merged with `merge`.
-  PREFIX-radial.svg   the ring means against the radius (log y axis) with a +-1 SE
+  OUT/spectrum-radial.svg
+                      the ring means against the radius (log y axis) with a +-1 SE
                       band and a dashed reference line at 1 (white noise).
-  PREFIX.json         the manifest: command, configuration, version, timings.
+  OUT/manifest.json   the manifest: command, configuration, version, timings.
 
 Spectra: the amplitude of one realisation of N samples is F(nu) = sum_k w_k
 exp(-2 pi i nu.x_k) with w_k = 1 for points and sinc(L nu.omega) for segments of
@@ -126,7 +128,7 @@ over all realisations and divided by R, so it does not shrink with --threads), t
 mean of <N*P> over all frequencies with rings ceil(k/2)..k (about 1 for most
 patterns) and over rings 1..max(1, round(sqrt(N)/4)) (low for blue noise).
 
-Runs: cells are blocks of ceil(R/8) realisations, kept in PREFIX.state/ (resume,
+Runs: cells are blocks of ceil(R/8) realisations, kept in OUT.state/ (resume,
 --fresh, --shard, merge: see `linesample-lab --help`).
 
 ",
@@ -543,7 +545,7 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
             PathBuf::from("out/spectrum").join(format!("{}-{dims}d-{n}{suffix}", config.label))
         }
     };
-    io::check_prefix("--out", &out, "out/spec")?;
+    io::check_folder("--out", &out)?;
     Ok(Resolved {
         config,
         files: data,
@@ -1061,7 +1063,7 @@ pub fn stage(
         })
         .collect();
     let csv_path = io::suffixed(prefix, "-radial.csv");
-    group.add_bytes(&csv_path, &table::csv(&[], &rows)?)?;
+    group.add_bytes(&csv_path, &table::csv(&rows)?)?;
     paths.push(csv_path);
     let svg = figures::radial(&figures::Radial {
         title,
@@ -1153,8 +1155,9 @@ pub fn report(cfg: &Config, s: &Summary, threads: usize) -> String {
     out
 }
 
-/// Writes the spectrum files and `PREFIX.json` as one group and prints the
-/// summary (unless `quiet`).
+/// Writes `OUT/spectrum.png` (2D/3D), `OUT/spectrum-radial.csv`,
+/// `OUT/spectrum-radial.svg` and `OUT/manifest.json` as one group and
+/// prints the summary (unless `quiet`).
 ///
 /// # Errors
 /// A stored-cell, drawing or I/O error.
@@ -1169,10 +1172,10 @@ pub fn complete(
     let s = exp.summary(cells)?;
     let (title, subtitle) = titles(cfg);
     let mut group = FileGroup::new();
-    let paths = stage(&mut group, out, &s, &title, &subtitle)?;
-    let json_path = io::suffixed(out, ".json");
+    let paths = stage(&mut group, &out.join("spectrum"), &s, &title, &subtitle)?;
+    let json_path = out.join("manifest.json");
     let files = paths.iter().map(|p| file_name(p)).collect();
-    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files);
+    let manifest = OutputManifest::new(KIND, reproduce(cfg), cfg, info, files).with_notes(&group);
     group.add_bytes(&json_path, &io::json(&manifest)?)?;
     group.commit()?;
     for note in &cfg.notes {

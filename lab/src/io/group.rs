@@ -19,6 +19,7 @@
 //! unique names mean two concurrent runs never write into each other's
 //! temporaries, and no user file is ever used as a scratch name.
 
+use std::collections::BTreeMap;
 use std::fs::{self, File};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -30,6 +31,7 @@ use tempfile::{NamedTempFile, TempPath};
 pub struct FileGroup {
     staged: Vec<(PathBuf, NamedTempFile)>,
     durable: bool,
+    notes: BTreeMap<String, Vec<String>>,
 }
 
 impl Default for FileGroup {
@@ -37,6 +39,7 @@ impl Default for FileGroup {
         FileGroup {
             staged: Vec::new(),
             durable: true,
+            notes: BTreeMap::new(),
         }
     }
 }
@@ -75,6 +78,7 @@ impl FileGroup {
         FileGroup {
             staged: Vec::new(),
             durable: false,
+            notes: BTreeMap::new(),
         }
     }
 
@@ -145,6 +149,45 @@ impl FileGroup {
     /// As [`FileGroup::add`].
     pub fn add_bytes(&mut self, target: impl Into<PathBuf>, bytes: &[u8]) -> Result<(), String> {
         self.add(target, |w| w.write_all(bytes))
+    }
+
+    /// Stages the CSV table `rows` at `target` (header first,
+    /// [`crate::io::table::csv`]) and keeps `notes`, what its readers should
+    /// know besides the rows, for the run's manifest ([`FileGroup::notes`]).
+    ///
+    /// # Errors
+    /// As [`FileGroup::add`], or a row that cannot be serialised.
+    pub fn add_csv<R: serde::Serialize>(
+        &mut self,
+        target: impl Into<PathBuf>,
+        notes: &[String],
+        rows: &[R],
+    ) -> Result<(), String> {
+        let target = target.into();
+        let bytes = crate::io::table::csv(rows)?;
+        self.add_bytes(&target, &bytes)?;
+        if !notes.is_empty() {
+            let name = target
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+            self.notes.insert(name, notes.to_vec());
+        }
+        Ok(())
+    }
+
+    /// Keeps `notes` about the staged file `name` for the manifest (what
+    /// [`FileGroup::add_csv`] does for the tables it stages).
+    pub fn note(&mut self, name: &str, notes: &[String]) {
+        if !notes.is_empty() {
+            self.notes.insert(name.to_string(), notes.to_vec());
+        }
+    }
+
+    /// The notes of the CSVs staged with [`FileGroup::add_csv`], by file
+    /// name: what the manifest records about them.
+    #[must_use]
+    pub fn notes(&self) -> &BTreeMap<String, Vec<String>> {
+        &self.notes
     }
 
     /// Renames every staged file into place, all or nothing (module docs).

@@ -30,16 +30,21 @@ pub fn json<T: Serialize + ?Sized>(value: &T) -> Result<Vec<u8>, String> {
     Ok(v)
 }
 
-/// Checks that `prefix` names a file prefix (not a directory such as `out/`).
+/// Checks that `dir` can be an output folder: it is a folder or does not
+/// exist yet (every command's `--out` is a folder).
 ///
 /// # Errors
-/// `"<option> <prefix>: expected a file prefix such as <example>, not a directory"`.
-pub fn check_prefix(option: &str, prefix: &Path, example: &str) -> Result<(), String> {
-    let s = prefix.as_os_str().to_string_lossy();
-    if prefix.file_name().is_none() || s.ends_with('/') || prefix.is_dir() {
+/// `"<option> <dir>: expected an output folder, but it is a file"`.
+pub fn check_folder(option: &str, dir: &Path) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
         return Err(format!(
-            "{option} {}: expected a file prefix such as {example}, not a directory",
-            prefix.display()
+            "{option} {}: expected an output folder, but it is a file",
+            dir.display()
+        ));
+    }
+    if dir.as_os_str().is_empty() {
+        return Err(format!(
+            "{option}: expected an output folder, got an empty path"
         ));
     }
     Ok(())

@@ -3,24 +3,23 @@
 //! `serialize_with` helpers below (so every table keeps its documented,
 //! round-trip number format).
 
-use std::io::Write;
-
 use serde::{Serialize, Serializer};
 
-/// CSV text: `#`-comment lines (one per entry of `comments`), then the header
-/// (the row type's field names) and one line per row.
+/// CSV text: the header (the row type's field names), then one line per
+/// row. Nothing precedes the header, so `pandas.read_csv`, Python's
+/// `csv.DictReader` and spreadsheets read it as it is; what a file's
+/// readers should know besides its rows (the command, the rules behind a
+/// column) goes into its run's manifest ([`FileGroup::add_csv`] and
+/// [`crate::experiments::OutputManifest::notes`]).
 ///
 /// # Errors
 /// A message if a row cannot be serialised (a bug in a row type).
-pub fn csv<R: Serialize>(comments: &[String], rows: &[R]) -> Result<Vec<u8>, String> {
-    let mut out = Vec::new();
-    for c in comments {
-        // Writing to a Vec cannot fail.
-        let _ = writeln!(out, "# {c}");
-    }
+///
+/// [`FileGroup::add_csv`]: crate::io::FileGroup::add_csv
+pub fn csv<R: Serialize>(rows: &[R]) -> Result<Vec<u8>, String> {
     let mut w = csv::WriterBuilder::new()
         .terminator(csv::Terminator::Any(b'\n'))
-        .from_writer(out);
+        .from_writer(Vec::new());
     for r in rows {
         w.serialize(r)
             .map_err(|e| format!("internal error: CSV row: {e}"))?;
@@ -73,7 +72,7 @@ mod tests {
     }
 
     #[test]
-    fn formats_and_comments() {
+    fn formats_and_header_first() {
         let rows = [
             Row {
                 n: 16,
@@ -90,10 +89,10 @@ mod tests {
                 name: String::new(),
             },
         ];
-        let s = String::from_utf8(csv(&["cmd --x 1".into()], &rows).unwrap()).unwrap();
+        let s = String::from_utf8(csv(&rows).unwrap()).unwrap();
         assert_eq!(
             s,
-            "# cmd --x 1\nn,v,t,o,name\n16,1.2345e-5,12.3,0.5000,a.txt\n64,5e-1,1.0,,\n"
+            "n,v,t,o,name\n16,1.2345e-5,12.3,0.5000,a.txt\n64,5e-1,1.0,,\n"
         );
     }
 }

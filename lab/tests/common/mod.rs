@@ -121,16 +121,19 @@ pub fn circles(path: &Path) -> usize {
     svg.matches("<circle").count()
 }
 
-/// The lines of a CSV after the `#` comments: comments, header, rows.
+/// A CSV's notes, header and rows. The file must start with its header
+/// (no comment line): the notes are those its run's manifest keeps for it
+/// (`notes[<file name>]` of the `manifest.json`, or of the one
+/// `*manifest.json`, in its folder), each as `# <note>`.
 pub fn csv_table(path: &Path) -> (Vec<String>, Vec<String>, Vec<Vec<String>>) {
     let text = fs::read_to_string(path).expect("read csv");
     assert!(text.ends_with('\n'));
-    let comments: Vec<String> = text
-        .lines()
-        .take_while(|l| l.starts_with('#'))
-        .map(str::to_owned)
-        .collect();
-    let mut rest = text.lines().skip(comments.len());
+    assert!(
+        !text.starts_with('#'),
+        "{}: a CSV must start with its header",
+        path.display()
+    );
+    let mut rest = text.lines();
     let header: Vec<String> = rest
         .next()
         .expect("header")
@@ -140,7 +143,28 @@ pub fn csv_table(path: &Path) -> (Vec<String>, Vec<String>, Vec<Vec<String>>) {
     let rows = rest
         .map(|l| l.split(',').map(str::to_owned).collect())
         .collect();
-    (comments, header, rows)
+    (csv_notes(path), header, rows)
+}
+
+/// The notes the run's manifest keeps for the CSV at `path`, as `# <note>`.
+pub fn csv_notes(path: &Path) -> Vec<String> {
+    let dir = path.parent().expect("a folder");
+    let name = path.file_name().unwrap().to_string_lossy().into_owned();
+    let mut manifests: Vec<PathBuf> = fs::read_dir(dir)
+        .expect("read the CSV's folder")
+        .flatten()
+        .map(|e| e.path())
+        .filter(|p| p.to_string_lossy().ends_with("manifest.json"))
+        .collect();
+    manifests.sort();
+    let mut notes = Vec::new();
+    for m in manifests {
+        let v: serde_json::Value = serde_json::from_slice(&fs::read(&m).unwrap()).unwrap();
+        if let Some(a) = v["notes"][name.as_str()].as_array() {
+            notes.extend(a.iter().map(|n| format!("# {}", n.as_str().unwrap())));
+        }
+    }
+    notes
 }
 
 /// No `.tmp` file anywhere below `dir` (state folders included).

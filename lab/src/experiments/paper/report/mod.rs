@@ -125,6 +125,13 @@ impl Out<'_> {
         self.files.push(rel.to_string());
         Ok(())
     }
+
+    /// Stages a CSV table and keeps its notes for the manifest.
+    fn add_table(&mut self, rel: &str, t: &tables::Table) -> Result<(), String> {
+        self.add(rel, &t.bytes)?;
+        self.group.note(rel, &t.notes);
+        Ok(())
+    }
 }
 
 const CSS: &str = "body{font-family:system-ui,sans-serif;max-width:1200px;margin:0 auto;padding:1em 2em;color:#222;line-height:1.45}\
@@ -156,11 +163,11 @@ pub fn complete(
         group: FileGroup::new(),
         files: Vec::new(),
     };
-    out.add("rates.csv", &rates_csv(cfg, &res)?)?;
-    out.add("prediction.csv", &prediction_csv(cfg, &res)?)?;
-    out.add("cost.csv", &cost_csv(cfg, &res)?)?;
+    out.add_table("rates.csv", &rates_csv(cfg, &res)?)?;
+    out.add_table("prediction.csv", &prediction_csv(cfg, &res)?)?;
+    out.add_table("cost.csv", &cost_csv(cfg, &res)?)?;
     let all: Vec<usize> = (0..cfg.curves.len()).collect();
-    out.add("curves.csv", &curves_csv(cfg, &res, &all)?)?;
+    out.add_table("curves.csv", &curves_csv(cfg, &res, &all)?)?;
 
     let mut body = String::new();
     body.push_str(&section_rates(&mut out, cfg, &res)?);
@@ -182,7 +189,8 @@ pub fn complete(
     );
     let mut files = out.files.clone();
     files.push("index.html".into());
-    let manifest = OutputManifest::new(KIND, reproduce.clone(), cfg, info, files);
+    let manifest =
+        OutputManifest::new(KIND, reproduce.clone(), cfg, info, files).with_notes(&out.group);
     let manifest_bytes = io::json(&manifest)?;
     let html = page(cfg, &res, info, &reproduce, &body);
     out.add("index.html", html.as_bytes())?;

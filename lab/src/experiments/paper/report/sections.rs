@@ -265,7 +265,7 @@ pub(super) fn convergence_figure(
     })?;
     let ids: Vec<usize> = curves.iter().map(|c| c.0).collect();
     out.add(&format!("figures/{name}.svg"), svg.as_bytes())?;
-    out.add(&format!("figures/{name}.csv"), &curves_csv(cfg, res, &ids)?)?;
+    out.add_table(&format!("figures/{name}.csv"), &curves_csv(cfg, res, &ids)?)?;
     Ok(format!(
         "<figure><a href=\"figures/{name}.svg\"><img src=\"figures/{name}.svg\" alt=\"{t}\"></a>\
          <figcaption>{t} — data: <a href=\"figures/{name}.csv\">{name}.csv</a></figcaption></figure>\n",
@@ -387,7 +387,7 @@ pub(super) fn scatter_figure(
         })
         .collect();
     out.add(&format!("figures/{name}.svg"), svg.as_bytes())?;
-    out.add(&format!("figures/{name}.csv"), &table::csv(&[], &data)?)?;
+    out.add(&format!("figures/{name}.csv"), &table::csv(&data)?)?;
     let _ = res;
     Ok(format!(
         "<figure><a href=\"figures/{name}.svg\"><img src=\"figures/{name}.svg\" alt=\"{t}\"></a>\
@@ -635,7 +635,7 @@ pub(super) fn section_directions(
                 ratio_se: d.ratio_se,
             })
             .collect();
-        out.add("directions.csv", &table::csv(&[], &data)?)?;
+        out.add("directions.csv", &table::csv(&data)?)?;
         h.push_str("<p>Data: <a href=\"directions.csv\">directions.csv</a></p>\n");
     }
     let curves: Vec<(usize, String)> = rows
@@ -1016,7 +1016,7 @@ pub(super) fn section_spectra(
     }
     h.push_str("</div>\n");
     if !data.is_empty() {
-        out.add("figures/spectra.csv", &table::csv(&[], &data)?)?;
+        out.add("figures/spectra.csv", &table::csv(&data)?)?;
     }
     Ok(h)
 }
@@ -1160,7 +1160,7 @@ pub(super) fn section_cost(
         });
     }
     h.push_str("</table>\n<p>Data: <a href=\"time-to-error.csv\">time-to-error.csv</a></p>\n");
-    out.add("time-to-error.csv", &table::csv(&[], &trows)?)?;
+    out.add("time-to-error.csv", &table::csv(&trows)?)?;
     // Overtakes.
     if !res.overtakes.is_empty() {
         h.push_str(
@@ -1212,7 +1212,7 @@ pub(super) fn section_cost(
             );
         }
         h.push_str("</table>\n<p>Data: <a href=\"simd.csv\">simd.csv</a></p>\n");
-        out.add("simd.csv", &table::csv(&[], &res.simd)?)?;
+        out.add("simd.csv", &table::csv(&res.simd)?)?;
     }
     // NUFFT.
     if !res.nufft.is_empty() {
@@ -1270,7 +1270,7 @@ pub(super) fn section_cost(
             log_x: true,
         })?;
         out.add("figures/nufft.svg", svg.as_bytes())?;
-        out.add("nufft.csv", &table::csv(&[], &res.nufft)?)?;
+        out.add("nufft.csv", &table::csv(&res.nufft)?)?;
         h.push_str("<div class=\"figs\"><figure><img src=\"figures/nufft.svg\" alt=\"NUFFT sweep\"><figcaption>NUFFT sweep — data: <a href=\"nufft.csv\">nufft.csv</a></figcaption></figure></div>\n");
     }
     Ok(h)

@@ -9,6 +9,13 @@ use crate::experiments::paper::results::{Results, PREDICTION_ALPHA, PREDICTION_R
 use crate::experiments::paper::theory::format_exponent;
 use crate::io::table;
 
+/// A CSV table (header first) and the notes its run's manifest keeps about
+/// it.
+pub(super) struct Table {
+    pub(super) notes: Vec<String>,
+    pub(super) bytes: Vec<u8>,
+}
+
 #[derive(Serialize)]
 pub(super) struct RateCsv<'a> {
     table: &'a str,
@@ -32,7 +39,7 @@ pub(super) struct RateCsv<'a> {
     curve: &'a str,
 }
 
-pub(super) fn rates_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
+pub(super) fn rates_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
     let rows: Vec<RateCsv<'_>> = res
         .rates
         .iter()
@@ -62,13 +69,13 @@ pub(super) fn rates_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> 
             }
         })
         .collect();
-    table::csv(
-        &[format!(
+    Ok(Table {
+        notes: vec![format!(
             "rate tables of linesample-lab paper (--mode {}); fit, range and verdict rules in index.html",
             cfg.mode.name()
         )],
-        &rows,
-    )
+        bytes: table::csv(&rows)?,
+    })
 }
 
 #[derive(Serialize)]
@@ -95,7 +102,7 @@ pub(super) struct PredCsv<'a> {
     agrees: bool,
 }
 
-pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
+pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
     let rows: Vec<PredCsv<'_>> = res
         .predictions
         .iter()
@@ -119,15 +126,15 @@ pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, Str
             }
         })
         .collect();
-    table::csv(
-        &[format!(
+    Ok(Table {
+        notes: vec![format!(
             "agrees: |z| <= {:.3} (Bonferroni, family-wise alpha {PREDICTION_ALPHA} over {} rows) \
              and |rel_diff| <= {PREDICTION_REL} where resolves_5pc",
             res.z_crit,
             res.predictions.len()
         )],
-        &rows,
-    )
+        bytes: table::csv(&rows)?,
+    })
 }
 
 #[derive(Serialize)]
@@ -147,7 +154,7 @@ pub(super) struct CostCsv<'a> {
     curve: &'a str,
 }
 
-pub(super) fn cost_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
+pub(super) fn cost_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
     let rows: Vec<CostCsv<'_>> = res
         .costs
         .iter()
@@ -167,12 +174,15 @@ pub(super) fn cost_csv(cfg: &Config, res: &Results) -> Result<Vec<u8>, String> {
             }
         })
         .collect();
-    table::csv(
-        &["seconds_per_estimate: summed wall time of the realisations on their worker threads / R \
-           (pattern generation, closed-form evaluations and the sum), measured with every worker busy"
-            .to_string()],
-        &rows,
-    )
+    Ok(Table {
+        notes: vec![
+            "seconds_per_estimate: summed wall time of the realisations on their worker \
+                     threads / R (pattern generation, closed-form evaluations and the sum), \
+                     measured with every worker busy"
+                .to_string(),
+        ],
+        bytes: table::csv(&rows)?,
+    })
 }
 
 #[derive(Serialize)]
@@ -192,7 +202,7 @@ pub(super) struct CurveCsv<'a> {
     predicted_se: String,
 }
 
-pub(super) fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Vec<u8>, String> {
+pub(super) fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Table, String> {
     let mut rows = Vec::new();
     for &ci in which {
         let c = &cfg.curves[ci];
@@ -211,12 +221,12 @@ pub(super) fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result
             });
         }
     }
-    table::csv(
-        &[
+    Ok(Table {
+        notes: vec![
             "variance of the R estimates per N (edge curves: of the errors estimate - exact for \
            that realisation's edge); predicted: spectral prediction where measured"
                 .to_string(),
         ],
-        &rows,
-    )
+        bytes: table::csv(&rows)?,
+    })
 }
