@@ -47,9 +47,13 @@ impl<const D: usize> Direction<D> {
         Ok(Self { v: s })
     }
 
-    /// A vector the caller knows to be finite and unit up to rounding.
+    /// A vector the caller knows to be finite and unit up to rounding
+    /// (e.g. a reflection or refraction of unit vectors), taken as it is:
+    /// no check and no renormalisation, so results keep their bits. Use
+    /// [`Direction::new`] for anything else.
     #[inline]
-    pub(crate) fn from_unit(v: [f64; D]) -> Self {
+    #[must_use]
+    pub fn from_unit(v: [f64; D]) -> Self {
         Self { v }
     }
 

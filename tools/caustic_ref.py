@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Reference values for `linesample::world::caustic` (tests/world_caustic.rs).
+"""Reference values for `linesample_scene::caustic` (scene/tests/caustic.rs).
 
-Writes tests/data/caustic_ref.csv:
+Writes scene/tests/data/caustic_ref.csv:
 
     python3 tools/caustic_ref.py            # about a minute
 
@@ -82,7 +82,7 @@ from mpmath import mp, mpf
 
 mp.dps = 60
 
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "caustic_ref.csv")
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scene", "tests", "data", "caustic_ref.csv")
 
 # ----------------------------------------------------------------- doubles
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Reference values for `linesample::world::direct_light` (tests/world_direct_light.rs).
+"""Reference values for `linesample_scene::direct_light` (scene/tests/direct_light.rs).
 
-Writes tests/data/direct_light_ref.csv (header line + one row per case):
+Writes scene/tests/data/direct_light_ref.csv (header line + one row per case):
 
     python3 tools/direct_light_ref.py            # about 30 s
 
@@ -63,7 +63,7 @@ from mpmath import mp, mpf
 
 mp.dps = 40
 
-OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "data", "direct_light_ref.csv")
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scene", "tests", "data", "direct_light_ref.csv")
 
 CORNELL = ((-0.24, 1.98, -0.22), (0.47, 0.0, 0.0), (0.0, 0.0, 0.38))
 

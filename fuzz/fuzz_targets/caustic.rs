@@ -1,4 +1,4 @@
-//! Fuzzes the volumetric-caustic kernel (`linesample::world::caustic`) with
+//! Fuzzes the volumetric-caustic kernel (`linesample_scene::caustic`) with
 //! arbitrary lights, glass balls, media, query balls and samples: a rejected
 //! parameter is fine; a panic, a NaN, or a value the physics forbids is not.
 //!
@@ -16,10 +16,10 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use linesample::world::caustic::{
+use linesample::world::Sphere;
+use linesample_scene::caustic::{
     Caustic, ConeEmitter, Fresnel, Glass, Medium, PhotonPath, MAX_SEGMENTS,
 };
-use linesample::world::Sphere;
 
 const U: f64 = f64::EPSILON;
 

@@ -24,14 +24,15 @@
 //! every `t` is covered by the centres within `ℓ/2` of it, of total measure
 //! `ℓ`; a line uses `u` only and gives `∫ g dθ · π = ∫ V|sin θ|cos θ dθ`.
 //! The visible measures are the kernel's closed forms
-//! ([`linesample::world::HalfPlane::visible_wrapped`]).
+//! ([`linesample_scene::HalfPlane::visible_wrapped`]).
 //!
 //! The solid-angle and cosine densities with a segment divide by
 //! `p_θ(θ_c)`, which is 0 at the normal while the segment's mean is not: the
 //! estimate has infinite (log-divergent) variance, visible for long segments
 //! (the pitfall the scene report shows).
 
-use linesample::world::{HalfPlane, Sphere};
+use linesample::world::Sphere;
+use linesample_scene::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::scene::{CentrePdf, Primitive};

@@ -50,10 +50,10 @@
 
 use std::path::Path;
 
-use linesample::world::caustic::{
+use linesample::world::Sphere;
+use linesample_scene::caustic::{
     Caustic, ConeEmitter, Fresnel, Glass, Medium, MAX_INTERNAL_REFLECTIONS,
 };
-use linesample::world::Sphere;
 use serde::Deserialize;
 use toml::Spanned;
 

@@ -1012,7 +1012,7 @@ impl Scene {
 
 /// Ambient occlusion at a shading point by the line estimator: the mean over
 /// the azimuths `phis` (each in `[0, π)`) of the whole half-plane's visible
-/// cosine weight ([`linesample::world::HalfPlane::visible`]), i.e.
+/// cosine weight ([`linesample_scene::HalfPlane::visible`]), i.e.
 /// `(1/N)Σ_k ∫_{−π/2}^{π/2} V(φ_k, θ)|sin θ| cos θ dθ`, an unbiased estimate
 /// of `AO = (1/π)∫_0^π dφ ∫ V|sin θ| cos θ dθ` for uniform `φ_k`.
 ///
@@ -1029,7 +1029,7 @@ pub fn ao_lines(
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     let mut sum = 0.0;
     for &phi in phis {
-        let hp = linesample::world::HalfPlane::at_azimuth(point, normal, t, phi)
+        let hp = linesample_scene::HalfPlane::at_azimuth(point, normal, t, phi)
             .map_err(|e| format!("shading frame: {e}"))?;
         let half = std::f64::consts::FRAC_PI_2;
         sum += hp

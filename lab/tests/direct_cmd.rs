@@ -267,7 +267,7 @@ fn every_estimator_is_unbiased() {
                 let l = world.light().lengths();
                 let a = l[0] * (f64::from(k % 8) + 0.5) / 8.0;
                 let b = l[1] * (f64::from(k / 8) + 0.5) / 8.0;
-                linesample::world::direct_light::DirectLight::new(
+                linesample_scene::direct_light::DirectLight::new(
                     world.light(),
                     px.x,
                     px.n,

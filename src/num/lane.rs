@@ -1,5 +1,5 @@
-//! The one SIMD lane abstraction: every batch kernel in the crate is written
-//! once, generic over [`Lane`], and instantiated for a scalar (the reference
+//! The one SIMD lane abstraction: every batch kernel in the crate (and in
+//! `linesample-scene`, whose effects are written in it too) is written once, generic over [`Lane`], and instantiated for a scalar (the reference
 //! path, always compiled and tested) and for a `wide` vector (the SIMD path):
 //! `f32`/`f32x8` for the `f32` closed forms ([`F32Lane`]), `f64`/`f64x4` for the
 //! periodogram kernels ([`F64Lane`]). The hash permutations' Feistel rounds
@@ -20,10 +20,10 @@ use core::ops::{Add, BitAnd, BitOr, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
 use wide::{f32x8, f64x4, i32x8, u16x16, u32x8};
 
 /// Width of the `f32` SIMD batch of the closed forms.
-pub(crate) const LANES: usize = 8;
+pub const LANES: usize = 8;
 
 /// A lane type: a scalar or a `wide` vector of that scalar.
-pub(crate) trait Lane:
+pub trait Lane:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
@@ -37,20 +37,27 @@ pub(crate) trait Lane:
     type Mask: Copy;
     /// Elements per value.
     const LANES: usize;
+    /// Every lane `x`.
     fn splat(x: Self::Scalar) -> Self;
     /// The first `LANES` elements of `s`.
     fn load(s: &[Self::Scalar]) -> Self;
     /// Writes the lanes to the first `LANES` elements of `s`.
     fn store(self, s: &mut [Self::Scalar]);
+    /// Correctly rounded square root.
     fn sqrt(self) -> Self;
+    /// Absolute value.
     fn abs(self) -> Self;
     /// `self < o ? self : o`.
     fn min(self, o: Self) -> Self;
     /// `self > o ? self : o`.
     fn max(self, o: Self) -> Self;
+    /// Round towards `−∞`.
     fn floor(self) -> Self;
+    /// `self < o`, lane by lane.
     fn lt(self, o: Self) -> Self::Mask;
+    /// `self ≤ o`, lane by lane.
     fn le(self, o: Self) -> Self::Mask;
+    /// `self > o`, lane by lane.
     fn gt(self, o: Self) -> Self::Mask;
     /// `m ? a : b`.
     fn select(m: Self::Mask, a: Self, b: Self) -> Self;
@@ -70,14 +77,14 @@ pub(crate) trait Lane:
 
 /// `f32` lanes (`f32`, `f32x8`), with the exponent construction the `f32`
 /// exponentials need.
-pub(crate) trait F32Lane: Lane<Scalar = f32> {
+pub trait F32Lane: Lane<Scalar = f32> {
     /// `2^n` for integral-valued `n ∈ [−126, 127]` (built from the exponent bits).
     fn pow2i(n: Self) -> Self;
 }
 
 /// `f64` lanes (`f64`, `f64x4`), with the exponent construction the `f64`
 /// exponential needs.
-pub(crate) trait F64Lane: Lane<Scalar = f64> {
+pub trait F64Lane: Lane<Scalar = f64> {
     /// `2^n` for integral-valued `n ∈ [−1022, 1023]` (built from the exponent
     /// bits).
     fn pow2i(n: Self) -> Self;
@@ -301,13 +308,13 @@ impl F64Lane for f64x4 {
 
 /// Loads lanes `i..i+8` of a slice.
 #[inline(always)]
-pub(crate) fn load8(s: &[f32], i: usize) -> f32x8 {
+pub fn load8(s: &[f32], i: usize) -> f32x8 {
     <f32x8 as Lane>::load(&s[i..i + LANES])
 }
 
 /// Stores a vector into lanes `i..i+8`.
 #[inline(always)]
-pub(crate) fn store8(s: &mut [f32], i: usize, v: f32x8) {
+pub fn store8(s: &mut [f32], i: usize, v: f32x8) {
     v.store(&mut s[i..i + LANES]);
 }
 
@@ -315,7 +322,7 @@ pub(crate) fn store8(s: &mut [f32], i: usize, v: f32x8) {
 /// (`crate::hash`): eight 32-bit lanes, and sixteen 16-bit lanes for domains
 /// of at most `2¹⁶` elements, whose round words and shifts are 16 bits
 /// narrower. Wrapping arithmetic, unsigned comparisons.
-pub(crate) trait IntLane:
+pub trait IntLane:
     Copy
     + Add<Output = Self>
     + Mul<Output = Self>

@@ -18,7 +18,7 @@
 
 pub mod complex;
 pub mod dd;
-pub(crate) mod lane;
+pub mod lane;
 pub mod phase;
 pub mod scalar;
 pub mod torus;

@@ -12,12 +12,11 @@
 //!   `exp(−σ_t ∫ρ)` and opacity `1 − exp(−σ_t ∫ρ)`;
 //! * [`HalfSpace`] and [`Slab`]: the length of `[t0, t1]` on the kept side of a
 //!   plane, or between two parallel planes;
-//! * [`HalfPlane`] ([`occlusion`]): the angles a sphere occludes in a
-//!   half-plane through a shading point's normal, and the cosine-weighted
-//!   visible measure of an angle interval (ambient occlusion by spheres in
-//!   closed form, one azimuth at a time);
-//! * [`caustic`]: photon points and photon beams through a glass ball into a
-//!   homogeneous medium, scored in a query ball (volumetric caustics).
+//!
+//! The effects built on these shapes (ambient occlusion by spheres, direct
+//! light from a rectangular light, volumetric caustics) are the
+//! `linesample-scene` crate's (they were `world::{occlusion, occlusion_f32,
+//! direct_light, direct_light_f32, caustic}` before 0.2).
 //!
 //! Each has an exact `f64` path (double-double where cancellation would
 //! otherwise lose digits; every method states its error bound) and an `f32`
@@ -54,17 +53,11 @@
 //!
 //! The derivations are in `docs/theory.md` (World-space closed forms).
 
-pub mod caustic;
-pub mod direct_light;
-pub mod direct_light_f32;
 pub mod gaussian;
-pub mod occlusion;
-pub mod occlusion_f32;
 pub mod plane;
 pub mod sphere;
 
 pub use gaussian::Gaussian;
-pub use occlusion::HalfPlane;
 pub use plane::{HalfSpace, Slab};
 pub use sphere::Sphere;
 
@@ -109,6 +102,16 @@ impl<const D: usize> Ray<D> {
         Ok(Self { origin, dir })
     }
 
+    /// The ray from `origin` along `dir`, taken as they are (no check): for
+    /// callers that build rays from rays (a reflected or refracted photon,
+    /// whose origin is a point of a finite path). Use [`Ray::new`] or
+    /// [`Ray::from_direction`] for anything else.
+    #[inline]
+    #[must_use]
+    pub fn from_parts(origin: [f64; D], dir: Direction<D>) -> Self {
+        Self { origin, dir }
+    }
+
     /// The ray from `from` through `to` (`to ≠ from`); `t = |to − from|` at `to`
     /// up to the rounding of the difference.
     ///
@@ -147,8 +150,13 @@ impl<const D: usize> Ray<D> {
     }
 }
 
-/// Checks `D ∈ {2, 3}`.
-pub(crate) fn check_dim<const D: usize>() -> Result<(), ParamError> {
+/// Checks `D ∈ {2, 3}`: the parameter checks every world-space constructor
+/// applies (here and in crates built on these shapes, such as
+/// `linesample-scene`), so that their errors name the parameter alike.
+///
+/// # Errors
+/// [`ParamError::Dimension`].
+pub fn check_dim<const D: usize>() -> Result<(), ParamError> {
     if D == 2 || D == 3 {
         Ok(())
     } else {
@@ -157,10 +165,10 @@ pub(crate) fn check_dim<const D: usize>() -> Result<(), ParamError> {
 }
 
 /// Checks that every component of `v` is finite.
-pub(crate) fn check_finite<const D: usize>(
-    name: &'static str,
-    v: &[f64; D],
-) -> Result<(), ParamError> {
+///
+/// # Errors
+/// [`ParamError::NonFinite`] naming `name`.
+pub fn check_finite<const D: usize>(name: &'static str, v: &[f64; D]) -> Result<(), ParamError> {
     if v.iter().all(|x| x.is_finite()) {
         Ok(())
     } else {
@@ -168,13 +176,11 @@ pub(crate) fn check_finite<const D: usize>(
     }
 }
 
-/// Checks that `x` is finite and in `[min, max]`.
-pub(crate) fn check_range(
-    name: &'static str,
-    x: f64,
-    min: f64,
-    max: f64,
-) -> Result<f64, ParamError> {
+/// Checks that `x` is finite and in `[min, max]`, and returns it.
+///
+/// # Errors
+/// [`ParamError::NonFinite`] or [`ParamError::OutOfRange`] naming `name`.
+pub fn check_range(name: &'static str, x: f64, min: f64, max: f64) -> Result<f64, ParamError> {
     if !x.is_finite() {
         return Err(ParamError::NonFinite { name });
     }

@@ -1,5 +1,5 @@
-//! The paper's AO scene, shared by `tests/world_occlusion.rs` and
-//! `benches/occlusion.rs` (included there by path).
+//! The paper's AO scene, shared by `scene/tests/occlusion.rs` and
+//! `scene/benches/occlusion.rs` (included there by path).
 
 /// The paper's AO scene (Singh, Miller & Jarosz 2017, from their pbrt-v3
 /// scene): centres and radii, the last the ground.

@@ -1,5 +1,5 @@
 //! `scene FILE` for a `volumetric-caustic` scene: photon points against
-//! photon beams ([`linesample::world::caustic`]) for the power a glass
+//! photon beams ([`linesample_scene::caustic`]) for the power a glass
 //! ball focuses into a query ball `Q` of a homogeneous medium, in 2D
 //! (flatland) or 3D. Nothing else is simulated.
 //!
@@ -37,8 +37,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample::world::caustic::{Caustic, PhotonPath};
 use linesample::Seed;
+use linesample_scene::caustic::{Caustic, PhotonPath};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

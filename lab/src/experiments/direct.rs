@@ -2,7 +2,7 @@
 //! surfaces by one rectangular area light, estimated with point samples on
 //! the light and with line samples across it (Billen & Dutré 2016), every
 //! line integrated in closed form over its exactly visible pieces
-//! ([`linesample::world::direct_light`]). Nothing else is simulated: the
+//! ([`linesample_scene::direct_light`]). Nothing else is simulated: the
 //! camera ray finds each pixel's surface point, and the only effect is the
 //! light's direct irradiance there, `E = ∫ G V dA`, tinted by the surface's
 //! albedo (`L = ρ/π · L_e · E`).
@@ -41,9 +41,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample::world::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
-use linesample::world::direct_light_f32::DirectLight32;
 use linesample::Seed;
+use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+use linesample_scene::direct_light_f32::DirectLight32;
 use serde::{Deserialize, Serialize};
 
 use crate::cli::{MergeArgs, SceneArgs};
@@ -77,7 +77,7 @@ pub struct DlEstimator {
     pub lines: Option<Orientation>,
     pub sampler: SceneSampler,
     /// Lines only: the kernel's `f32` SIMD batch
-    /// ([`linesample::world::direct_light_f32::DirectLight32`]) instead of
+    /// ([`linesample_scene::direct_light_f32::DirectLight32`]) instead of
     /// the `f64` closed form.
     #[serde(default)]
     pub simd: bool,

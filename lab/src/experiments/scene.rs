@@ -4,7 +4,7 @@
 //!
 //! Both run through the [`crate::runner`] (resume, `--shard`, `merge`,
 //! progress). Every estimate is the closed-form visibility of
-//! [`linesample::world::HalfPlane`] through [`crate::ao::sample`]: no ray is
+//! [`linesample_scene::HalfPlane`] through [`crate::ao::sample`]: no ray is
 //! traced except the camera ray that finds each pixel's shading point.
 //!
 //! **Images** (cells: blocks of rows). Per pixel: the reference (lines with
@@ -40,9 +40,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample::world::occlusion_f32::AoPoint32;
 use linesample::world::Sphere;
 use linesample::Seed;
+use linesample_scene::occlusion_f32::AoPoint32;
 use serde::{Deserialize, Serialize};
 
 use crate::ao::{self, AoEstimator, Frame};
@@ -126,7 +126,7 @@ pub struct EstimatorSpec {
     pub pdf: CentrePdf,
     pub sampler: SceneSampler,
     /// Lines only: the kernel's `f32` SIMD batch
-    /// ([`linesample::world::occlusion_f32::AoPoint32::line_batch_f32`])
+    /// ([`linesample_scene::occlusion_f32::AoPoint32::line_batch_f32`])
     /// instead of the `f64` closed form.
     #[serde(default)]
     pub simd: bool,

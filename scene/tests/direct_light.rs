@@ -1,8 +1,8 @@
-//! Direct light from a rectangular light (`linesample::world::direct_light`)
+//! Direct light from a rectangular light (`linesample_scene::direct_light`)
 //! against references that share nothing with the module's derivation:
 //!
 //! 1. **Line integrals against 40-digit quadrature of the 3D geometry.**
-//!    `tests/data/direct_light_ref.csv` (written by
+//!    `scene/tests/data/direct_light_ref.csv` (written by
 //!    `tools/direct_light_ref.py`, mpmath at 40 digits) integrates
 //!    `G(y) = max(0, n·(y − x))·n_L·(x − y)/|y − x|⁴` directly along the 3D
 //!    line `y(t) = c + a(t)·ê₁ + b(t)·ê₂`, with breakpoints at the clamp and
@@ -30,12 +30,12 @@
 //! 5. **Bad input**: every constructor names the parameter.
 //!
 //! Everything is deterministic (fixed seeds, `linesample::Pcg32`); under a
-//! second in release (`cargo test --release --test world_direct_light`).
+//! second in release (`cargo test --release -p linesample-scene --test direct_light`).
 
-use linesample::world::direct_light::{
+use linesample::{ParamError, Pcg32};
+use linesample_scene::direct_light::{
     diffuse_line_integral, Chord, DirectLight, Parallelogram, QuadLight, Shadow,
 };
-use linesample::{ParamError, Pcg32};
 use std::collections::BTreeMap;
 
 /// `2⁻⁵³`, the unit roundoff.
@@ -143,7 +143,7 @@ fn dot_scale(a: V3, b: V3) -> f64 {
 
 // ------------------------------------------------------------ 1. references
 
-/// One row of `tests/data/direct_light_ref.csv` (see
+/// One row of `scene/tests/data/direct_light_ref.csv` (see
 /// `tools/direct_light_ref.py` for the columns).
 #[derive(Clone, Debug)]
 struct Row {

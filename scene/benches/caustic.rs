@@ -27,9 +27,9 @@
 //! set-up's search for `N`).
 
 use criterion::{criterion_group, criterion_main, Criterion, SamplingMode, Throughput};
-use linesample::world::caustic::{Caustic, ConeEmitter, Fresnel, Glass, Medium};
 use linesample::world::Sphere;
 use linesample::Pcg32;
+use linesample_scene::caustic::{Caustic, ConeEmitter, Fresnel, Glass, Medium};
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 

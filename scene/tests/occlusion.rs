@@ -1,4 +1,4 @@
-//! Ambient occlusion by spheres in closed form (`linesample::world::occlusion`)
+//! Ambient occlusion by spheres in closed form (`linesample_scene::occlusion`)
 //! against brute force: the occluded angles against rays cast one by one with
 //! `Sphere::hit`, and the visible cosine-weighted measure against adaptive
 //! Gauss–Kronrod quadrature of `|sin θ| cos θ` over the visible pieces, whose
@@ -9,14 +9,16 @@
 //! (tangent to the half-plane, touching the horizon, cut by the tangent
 //! plane, the shading point on its own sphere, the point inside a sphere).
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 
 use common::ao_scene;
 use common::{integrate, XorShift as Rng};
-use linesample::world::occlusion::{cosine_weight, visible_weight};
-use linesample::world::occlusion_f32::AoPoint32;
-use linesample::world::{HalfPlane, Ray, Sphere};
+use linesample::world::{Ray, Sphere};
 use linesample::ParamError;
+use linesample_scene::occlusion::{cosine_weight, visible_weight};
+use linesample_scene::occlusion_f32::AoPoint32;
+use linesample_scene::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// Whether the ray `p + s·d`, `ε < s ≤ max`, meets a sphere's surface, by

@@ -47,15 +47,16 @@
 //! radians plus a few ulp of `π` (the conditioning of a tangent direction:
 //! large only for a point almost touching a sphere). The weights have a
 //! relative error of a few ulp. Tested against brute-force ray casting with
-//! [`super::Sphere::hit`] and adaptive quadrature (`tests/world_occlusion.rs`).
+//! [`linesample::world::Sphere::hit`] and adaptive quadrature (`scene/tests/occlusion.rs`).
 //!
 //! The `f32` SIMD batch of the line and wrapped-segment measures over many
 //! azimuths at one shading point, with no transcendental per sphere and no
 //! sorting, is [`super::occlusion_f32::AoPoint32`] (tested against this path).
 
-use super::Sphere;
-use crate::error::ParamError;
 use core::f64::consts::{FRAC_PI_2, PI};
+use linesample::world::check_finite;
+use linesample::world::Sphere;
+use linesample::ParamError;
 
 /// The half-plane through a shading point `p` spanned by its unit normal `n`
 /// and a unit azimuth direction `a ⊥ n`: the directions
@@ -106,7 +107,7 @@ fn cross(x: &[f64; 3], y: &[f64; 3]) -> [f64; 3] {
 }
 
 fn unit(x: [f64; 3]) -> Option<[f64; 3]> {
-    let l = crate::num::scalar::sqrt(dot(&x, &x));
+    let l = linesample::num::scalar::sqrt(dot(&x, &x));
     (l > 0.0 && l.is_finite()).then(|| x.map(|c| c / l))
 }
 
@@ -125,9 +126,9 @@ impl HalfPlane {
         azimuth: impl Into<[f64; 3]>,
     ) -> Result<Self, ParamError> {
         let (p, n, a) = (point.into(), normal.into(), azimuth.into());
-        super::check_finite("point", &p)?;
-        super::check_finite("normal", &n)?;
-        super::check_finite("azimuth", &a)?;
+        check_finite("point", &p)?;
+        check_finite("normal", &n)?;
+        check_finite("azimuth", &a)?;
         let n = unit(n).ok_or(ParamError::ZeroDirection)?;
         // a without its component along n, normalised; twice, so that the
         // rounding of the first pass leaves no normal component.
@@ -212,11 +213,11 @@ impl HalfPlane {
         let r2 = (big_r - h) * (big_r + h);
         let (qa, qn) = (dot(&q, &self.a), dot(&q, &self.n));
         let d2 = qa * qa + qn * qn;
-        let d = crate::num::scalar::sqrt(d2);
-        let r = crate::num::scalar::sqrt(r2);
+        let d = linesample::num::scalar::sqrt(d2);
+        let r = linesample::num::scalar::sqrt(r2);
         let theta_c = libm::atan2(qa, qn);
         // |q|² − R² = D² − r², from |q| and R (no cancellation of squares).
-        let ql = crate::num::scalar::sqrt(dot(&q, &q));
+        let ql = linesample::num::scalar::sqrt(dot(&q, &q));
         let out2 = (ql - big_r) * (ql + big_r);
         // cos α of the circle point at distance s = max_dist:
         // (s² + D² − r²)/(2sD), with D² − r² = |q|² − R² = out2.
@@ -236,7 +237,7 @@ impl HalfPlane {
             let (tangent, beta) = if on_surface {
                 (0.0, FRAC_PI_2)
             } else {
-                let t = crate::num::scalar::sqrt(out2);
+                let t = linesample::num::scalar::sqrt(out2);
                 (t, libm::atan2(r, t))
             };
             let w = if tangent <= max_dist {
@@ -301,7 +302,7 @@ impl HalfPlane {
             let c = sp.centre();
             let big_r = sp.radius();
             let q = [c[0] - self.p[0], c[1] - self.p[1], c[2] - self.p[2]];
-            let ql = crate::num::scalar::sqrt(dot(&q, &q));
+            let ql = linesample::num::scalar::sqrt(dot(&q, &q));
             let c2 = (ql - big_r) * (ql + big_r);
             if c2.abs() <= 1e-12 * big_r * big_r {
                 return true;
@@ -311,7 +312,7 @@ impl HalfPlane {
             if disc <= 0.0 {
                 return true;
             }
-            let root = crate::num::scalar::sqrt(disc);
+            let root = linesample::num::scalar::sqrt(disc);
             let hit_at = if c2 > 0.0 {
                 if b <= 0.0 {
                     return true;
@@ -420,7 +421,7 @@ impl HalfPlane {
             return self.visible(spheres, max_dist, -FRAC_PI_2, FRAC_PI_2, scratch);
         }
         // θ0 − π·round(θ0/π) ∈ [−π/2, π/2] (one rounding).
-        let mut a = theta0 - PI * crate::num::scalar::round(theta0 / PI);
+        let mut a = theta0 - PI * linesample::num::scalar::round(theta0 / PI);
         if a >= FRAC_PI_2 {
             a -= PI;
         }

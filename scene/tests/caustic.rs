@@ -1,8 +1,8 @@
-//! Volumetric caustics (`linesample::world::caustic`) against references that
+//! Volumetric caustics (`linesample_scene::caustic`) against references that
 //! share nothing with the module's algorithms:
 //!
 //! 1. **Beam closed form against 60-digit quadrature.**
-//!    `tests/data/caustic_ref.csv` (written by `tools/caustic_ref.py`,
+//!    `scene/tests/data/caustic_ref.csv` (written by `tools/caustic_ref.py`,
 //!    mpmath at 60 digits) finds the chord ends of `Q` along each segment's
 //!    ray `o + t·w` by bisection on `|o + tw − c|² − r²` (checked against
 //!    `polyroots`), clips them to `[0, length]` and integrates
@@ -35,12 +35,12 @@
 //!
 //! Deterministic (no randomness at run time; the file's cases are seeded).
 
-use linesample::world::caustic::{
+use linesample::world::{Ray, Sphere};
+use linesample::ParamError;
+use linesample_scene::caustic::{
     fresnel_reflectance, reflect, refract, Caustic, ConeEmitter, Fresnel, Glass, Medium,
     PhotonPath, Segment, MAX_INTERNAL_REFLECTIONS, MAX_SEGMENTS,
 };
-use linesample::world::{Ray, Sphere};
-use linesample::ParamError;
 use std::collections::BTreeMap;
 use std::f64::consts::PI;
 

@@ -202,15 +202,16 @@
 //! (`κ → 1`). Each blows up only to a square root: at worst an end is off
 //! by about `√(ε·L·R)/D` or `√(ε·L/D)`, the width of the sliver that is in
 //! doubt (a few `10⁻⁴` for unit spheres a few units away). Away from
-//! grazing the error is `~10ε₃₂`; in the paper's AO scene a few `10⁻⁶`. `tests/world_occlusion.rs` evaluates the bound for
+//! grazing the error is `~10ε₃₂`; in the paper's AO scene a few `10⁻⁶`. `scene/tests/occlusion.rs` evaluates the bound for
 //! every line and segment it checks (random scenes with all of these
 //! grazing cases, and the paper's scene) and asserts it.
 //!
 //! Scale: `|q| + R ≤ 10¹⁸` and `R ≥ 10⁻¹⁸` (squares in `f32`).
 //!
 //! ```
-//! use linesample::world::occlusion_f32::AoPoint32;
-//! use linesample::world::{HalfPlane, Sphere};
+//! use linesample_scene::occlusion_f32::AoPoint32;
+//! use linesample::world::Sphere;
+//! use linesample_scene::HalfPlane;
 //! let spheres = [Sphere::new([0.0, 1.0, 2.0], 0.5)?, Sphere::new([1.0, 0.3, -1.0], 0.4)?];
 //! let (p, n, t) = ([0.0; 3], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]);
 //! let ao = AoPoint32::<4>::new(p, n, t, &spheres, 10.0)?;
@@ -227,10 +228,12 @@
 //! # Ok::<(), linesample::ParamError>(())
 //! ```
 
-use super::{check_finite, HalfPlane, Sphere};
-use crate::error::ParamError;
-use crate::num::lane::{load8, store8, F32Lane, LANES};
+use crate::HalfPlane;
 use core::f64::consts::PI;
+use linesample::num::lane::{load8, store8, F32Lane, LANES};
+use linesample::world::check_finite;
+use linesample::world::Sphere;
+use linesample::ParamError;
 use wide::f32x8;
 
 /// `π/2` in three parts for the Cody–Waite reduction: `C1` has 8 significant
@@ -323,7 +326,7 @@ impl Prep {
         let big_r = sphere.radius();
         let q = [c[0] - p[0], c[1] - p[1], c[2] - p[2]];
         // As HalfPlane::occluded: |q|² − R² from |q| (no cancellation of squares).
-        let ql = crate::num::scalar::sqrt(dot(&q, &q));
+        let ql = linesample::num::scalar::sqrt(dot(&q, &q));
         let out2 = (ql - big_r) * (ql + big_r);
         let qn = dot(&q, &frame[2]);
         if ql - big_r >= max_dist || qn + big_r <= 1e-12 * big_r {
@@ -333,7 +336,7 @@ impl Prep {
         let tan = if on_surface || out2 < 0.0 {
             0.0
         } else {
-            crate::num::scalar::sqrt(out2)
+            linesample::num::scalar::sqrt(out2)
         };
         let kind = if on_surface {
             Kind::OnSurface
@@ -816,7 +819,7 @@ mod tests {
             lanes[fill] = x;
             fill += 1;
             if fill == 8 {
-                let (vs, vc) = sincos32(<f32x8 as crate::num::lane::Lane>::load(&lanes));
+                let (vs, vc) = sincos32(<f32x8 as linesample::num::lane::Lane>::load(&lanes));
                 let (vs, vc) = (vs.to_array(), vc.to_array());
                 for l in 0..8 {
                     let (s, c) = sincos32::<f32>(lanes[l]);

@@ -182,7 +182,7 @@
 //! It grows where a line is ill-conditioned: nearly parallel to and near a
 //! boundary (`1/κ`, capped at the whole line). Receivers close to the
 //! light's plane stay accurate (`δρ/q` is `O(ε)` since `ρ` is formed in
-//! `f64`). `tests/world_direct_light_f32.rs` evaluates the bound for every
+//! `f64`). `scene/tests/direct_light_f32.rs` evaluates the bound for every
 //! line it checks (receivers in a Cornell-box scene, receivers
 //! `10⁻² … 10⁻⁶` above the light's plane behind a blocker, tangent planes
 //! cutting the light, lines through light and shadow corners, duplicated
@@ -197,8 +197,8 @@
 //! refuses anything else.
 //!
 //! ```
-//! use linesample::world::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
-//! use linesample::world::direct_light_f32::DirectLight32;
+//! use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+//! use linesample_scene::direct_light_f32::DirectLight32;
 //! let light = QuadLight::new([-0.5, 2.0, -0.5], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])?;
 //! let blocker = Parallelogram::new([-0.1, 1.0, -0.1], [0.2, 0.0, 0.0], [0.0, 0.0, 0.2])?;
 //! let (x, n) = ([0.1, 0.0, 0.05], [0.0, 1.0, 0.0]);
@@ -226,11 +226,11 @@
 //! [`DirectLight::new`]: super::direct_light::DirectLight::new
 //! [`DirectLight::line`]: super::direct_light::DirectLight::line
 
-use super::check_finite;
-use super::direct_light::{QuadLight, Shadow, SHADOW_PLANES};
-use crate::error::ParamError;
-use crate::num::lane::{load8, store8, F32Lane, LANES};
-use crate::num::scalar::sqrt;
+use crate::direct_light::{QuadLight, Shadow, SHADOW_PLANES};
+use linesample::num::lane::{load8, store8, F32Lane, LANES};
+use linesample::num::scalar::sqrt;
+use linesample::world::check_finite;
+use linesample::ParamError;
 use wide::f32x8;
 
 /// `tan(π/8) = √2 − 1`, rounded: above it `atan` is reduced about `π/4`.
@@ -745,7 +745,7 @@ fn check_batch(c: &[f32], s: &[f32], o: &[f32], out: &[f32]) -> Result<(), Param
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::num::lane::Lane;
+    use linesample::num::lane::Lane;
 
     /// The lane `atan2` against `libm` (in `f64`) over ratios from `10⁻³⁰`
     /// to `10³⁰`, and the SIMD instantiation against the scalar one bit for

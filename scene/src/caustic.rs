@@ -54,7 +54,7 @@
 //! For the given segment rays, the chord `(a, b − a)` comes from
 //! [`Sphere::hit`] and [`Sphere::segment`]: both relatively accurate to a few
 //! ulp, down to grazing chords (`b − a` is never a difference of two rounded
-//! ends, see [`super::sphere`]). `1 − e^{−x}` is `−expm1(−x)` (no
+//! ends, see [`linesample::world::sphere`]). `1 − e^{−x}` is `−expm1(−x)` (no
 //! cancellation for short chords). The exponent `σ_t(τ + a)` carries an
 //! absolute error of about `3u·σ_t(τ + a)`, so each term is relatively
 //! accurate to about `(12 + 3σ_t(τ + a))·u` (`u = 2⁻⁵³`); the terms are
@@ -75,10 +75,11 @@
 // `!(x > y)` is deliberate below: it also catches NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::{check_dim, check_finite, check_range, Ray, Sphere};
-use crate::error::ParamError;
-use crate::geom::Direction;
-use crate::num::scalar::sqrt;
+use linesample::geom::Direction;
+use linesample::num::scalar::sqrt;
+use linesample::world::{check_dim, check_finite, check_range};
+use linesample::world::{Ray, Sphere};
+use linesample::ParamError;
 
 /// The largest number of internal reflections [`Caustic::new`] accepts.
 pub const MAX_INTERNAL_REFLECTIONS: u32 = 8;
@@ -558,10 +559,7 @@ impl<const D: usize> Caustic<D> {
     #[must_use]
     pub fn trace(&self, dir: [f64; D]) -> PhotonPath<D> {
         let origin = self.light.position();
-        let ray0 = Ray {
-            origin,
-            dir: Direction::from_unit(dir),
-        };
+        let ray0 = Ray::from_parts(origin, Direction::from_unit(dir));
         let mut path = PhotonPath {
             segs: [Segment {
                 ray: ray0,
@@ -612,10 +610,7 @@ impl<const D: usize> Caustic<D> {
         };
         if r1 > 0.0 {
             path.push(Segment {
-                ray: Ray {
-                    origin: p,
-                    dir: Direction::from_unit(reflect(&dir, &n1)),
-                },
+                ray: Ray::from_parts(p, Direction::from_unit(reflect(&dir, &n1))),
                 start: t_in,
                 length: f64::INFINITY,
                 weight: r1,
@@ -628,10 +623,7 @@ impl<const D: usize> Caustic<D> {
         let mut w = 1.0 - r1;
         for k in 0..=k_max {
             // Chord through the ball from a point on its surface: the far root.
-            let inside = Ray {
-                origin: p,
-                dir: Direction::from_unit(d),
-            };
+            let inside = Ray::from_parts(p, Direction::from_unit(d));
             let t_out = match ball.hit(&inside) {
                 Some((_, t)) if t > 0.0 => t,
                 // Rounding put p just outside, on the far side of a tangent: stop.
@@ -649,10 +641,7 @@ impl<const D: usize> Caustic<D> {
             // grazing), and R₂ = R₁ (reciprocity).
             let out = refracted(&d, &inward, self.glass.ior, cos2, cos1);
             path.push(Segment {
-                ray: Ray {
-                    origin: p,
-                    dir: Direction::from_unit(out),
-                },
+                ray: Ray::from_parts(p, Direction::from_unit(out)),
                 start: t_in,
                 length: f64::INFINITY,
                 weight: w * (1.0 - r1),

@@ -20,12 +20,12 @@
 //! (lines) per second on one core.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use linesample::world::occlusion_f32::AoPoint32;
-use linesample::world::HalfPlane;
+use linesample_scene::occlusion_f32::AoPoint32;
+use linesample_scene::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::hint::black_box;
 
-#[path = "../tests/common/ao_scene.rs"]
+#[path = "../../tests/common/ao_scene.rs"]
 mod ao_scene;
 
 const N: usize = 4096;

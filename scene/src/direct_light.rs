@@ -69,7 +69,7 @@
 //!
 //! **Error bound** (`ε = 2⁻⁵³`): for exact `h, A, β, q` and interval ends, the
 //! result is within `40 ε` relative of the exact integral (measured ≤ 7.1 ε
-//! against 40-digit quadrature, `tests/world_direct_light.rs`, also on
+//! against 40-digit quadrature, `scene/tests/direct_light.rs`, also on
 //! intervals `10⁻⁶` of their distance from the foot: a piece's width is
 //! formed as `(s_hi − s_lo)/q`, never as a difference of the scaled ends).
 //! Through [`DirectLight`] the inputs carry rounding, and three effects can
@@ -119,7 +119,7 @@
 //! a chord is the chord minus the union of those intervals.
 //!
 //! ```
-//! use linesample::world::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+//! use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
 //! // A 1×1 light at height 2, facing down; a receiver on the floor below it.
 //! let light = QuadLight::new([-0.5, 2.0, -0.5], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0])?;
 //! // A small blocker half way up.
@@ -138,8 +138,9 @@
 
 // `!(x > 0.0)` is `x ≤ 0 or NaN` on purpose: NaN must take the safe branch.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
-use crate::error::ParamError;
-use crate::num::scalar::sqrt;
+use linesample::num::scalar::sqrt;
+use linesample::world::check_finite;
+use linesample::ParamError;
 
 /// A rectangular area light: corner `c`, orthogonal edges `e₁`, `e₂`,
 /// emitting on the side of `n_L = ê₁ × ê₂` (see the [module docs](self)).
@@ -188,9 +189,9 @@ impl QuadLight {
         edge2: impl Into<[f64; 3]>,
     ) -> Result<Self, ParamError> {
         let (corner, e1, e2) = (corner.into(), edge1.into(), edge2.into());
-        super::check_finite("corner", &corner)?;
-        super::check_finite("edge1", &e1)?;
-        super::check_finite("edge2", &e2)?;
+        check_finite("corner", &corner)?;
+        check_finite("edge1", &e1)?;
+        check_finite("edge2", &e2)?;
         let (l1, l2) = (norm(e1), norm(e2));
         if !(l1 > 0.0 && l2 > 0.0 && l1.is_finite() && l2.is_finite()) {
             return Err(ParamError::ZeroDirection);
@@ -332,9 +333,9 @@ impl Parallelogram {
         edge2: impl Into<[f64; 3]>,
     ) -> Result<Self, ParamError> {
         let (corner, e1, e2) = (corner.into(), edge1.into(), edge2.into());
-        super::check_finite("corner", &corner)?;
-        super::check_finite("edge1", &e1)?;
-        super::check_finite("edge2", &e2)?;
+        check_finite("corner", &corner)?;
+        check_finite("edge1", &e1)?;
+        check_finite("edge2", &e2)?;
         let n = norm(cross(e1, e2));
         if !(n > 1e-12 * norm(e1) * norm(e2) && n.is_finite()) {
             return Err(ParamError::ZeroDirection);
@@ -477,7 +478,7 @@ impl Shadow {
         out: &mut [Shadow],
     ) -> Result<usize, ParamError> {
         let x = x.into();
-        super::check_finite("x", &x)?;
+        check_finite("x", &x)?;
         if out.len() < faces.len() {
             return Err(ParamError::Length {
                 name: "out",
@@ -590,8 +591,8 @@ impl<'a> DirectLight<'a> {
         shadows: &'a [Shadow],
     ) -> Result<Self, ParamError> {
         let (x, n) = (x.into(), n.into());
-        super::check_finite("x", &x)?;
-        super::check_finite("n", &n)?;
+        check_finite("x", &x)?;
+        check_finite("n", &n)?;
         let ln = norm(n);
         if !(ln > 0.0 && ln.is_finite()) {
             return Err(ParamError::ZeroDirection);

@@ -1,5 +1,5 @@
 //! The `f32` SIMD batch of the direct-light line estimator
-//! (`linesample::world::direct_light_f32`) against the `f64` path
+//! (`linesample_scene::direct_light_f32`) against the `f64` path
 //! (`DirectLight::line` of `QuadLight::chord`, the `f32` inputs widened):
 //! the module's error bound evaluated for every line from exact (`f64`)
 //! geometry and asserted, on receivers in a Cornell-box-like scene, on
@@ -9,14 +9,15 @@
 //! tie-breaking); the SIMD batch against its scalar twin bit for bit
 //! (thousands of lines, every tail length); input validation.
 
+#[path = "../../tests/common/mod.rs"]
 mod common;
 
 use common::XorShift as Rng;
-use linesample::world::direct_light::{
+use linesample::ParamError;
+use linesample_scene::direct_light::{
     diffuse_line_integral, DirectLight, Parallelogram, QuadLight, Shadow,
 };
-use linesample::world::direct_light_f32::DirectLight32;
-use linesample::ParamError;
+use linesample_scene::direct_light_f32::DirectLight32;
 use std::f64::consts::PI;
 
 /// `ε₃₂ = 2⁻²³`.

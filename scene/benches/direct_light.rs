@@ -4,7 +4,7 @@
 //! (emitting down) in the room `[−1, 1] × [0, 2] × [−1, 1]`, a short box
 //! (0.6 high, rotated −17° about `y`) and a tall one (1.2 high, +17°), each
 //! six faces; a receiver's occluders are the box faces that face it
-//! (`tests/world_direct_light_f32.rs` builds the same scene). 64 receivers:
+//! (`scene/tests/direct_light_f32.rs` builds the same scene). 64 receivers:
 //! half on the floor (three in eight around the boxes), a quarter on the
 //! back and left walls, a quarter on the boxes' faces; 256 lines each
 //! (`φ = π(k + ½)/256`, a random offset in the light's offset range).
@@ -23,9 +23,9 @@
 //! (first group) or receivers (second group) per second on one core.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use linesample::world::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
-use linesample::world::direct_light_f32::DirectLight32;
 use linesample::Pcg32;
+use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+use linesample_scene::direct_light_f32::DirectLight32;
 use std::f64::consts::PI;
 use std::hint::black_box;
 
