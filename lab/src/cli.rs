@@ -4,8 +4,7 @@
 
 use std::path::PathBuf;
 
-use clap::{ArgGroup, Args, Parser, Subcommand, ValueEnum};
-use serde::{Deserialize, Serialize};
+use clap::{ArgGroup, Args, Parser, Subcommand};
 
 use crate::experiments::paper::{self, Mode};
 use crate::experiments::{convergence, gallery, patterns, scene, spectrum};
@@ -466,29 +465,7 @@ pub struct PatternArgs {
     pub poisson: PoissonArgs,
 }
 
-/// The sample primitive and its geometry.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Primitive {
-    /// Points.
-    Points,
-    /// Segments of length --length centred at the points, wrapped on the torus.
-    Segments,
-    /// Lines through (spectrum) or offset by (convergence) the points.
-    Lines,
-}
-
-impl Primitive {
-    /// The command-line name.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Primitive::Points => "points",
-            Primitive::Segments => "segments",
-            Primitive::Lines => "lines",
-        }
-    }
-}
+pub use crate::spec::Primitive;
 
 /// `--primitive`, `--length`, `--direction`.
 #[derive(Clone, Debug, Args)]
@@ -768,6 +745,18 @@ pub struct ConvergenceArgs {
     pub run: RunArgs,
 }
 
+impl MergeArgs {
+    /// The experiments' form of the request.
+    #[must_use]
+    pub fn request(&self) -> crate::spec::MergeRequest {
+        crate::spec::MergeRequest {
+            out: self.out.clone(),
+            shards: self.shards.clone(),
+            quiet: self.quiet,
+        }
+    }
+}
+
 /// Options of `linesample-lab merge`.
 #[derive(Debug, Args)]
 pub struct MergeArgs {
@@ -808,7 +797,7 @@ pub fn dispatch(cli: Cli) -> Result<(), String> {
         Some(Command::Gallery(a)) => gallery::main(&a),
         Some(Command::Spectrum(a)) => spectrum::main(&a),
         Some(Command::Convergence(a)) => convergence::main(&a),
-        Some(Command::Merge(a)) => crate::experiments::merge(&a),
+        Some(Command::Merge(a)) => crate::experiments::merge(&a.request()),
         Some(Command::Scene(a)) => scene::main(&a),
         None => gallery::main(&gallery::default_args()),
     }

@@ -2,10 +2,10 @@
 //! options that derive `clap::ValueEnum` and `serde` once, so that an
 //! experiment's configuration never needs the CLI module.
 
+use std::path::PathBuf;
+
 use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
-
-use crate::scene::SceneSampler;
 
 /// `--shift`: homogenisation by a random toroidal shift.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
@@ -38,4 +38,109 @@ pub fn scene_shift(sampler: SceneSampler, shift: Option<ShiftMode>) -> Result<bo
         ),
         Some(ShiftMode::None) => Ok(false),
     }
+}
+
+/// The sample primitive: `--primitive` of `spectrum` and `convergence`, and
+/// an estimator's primitive in a scene file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Primitive {
+    /// Points.
+    Points,
+    /// Segments of length --length centred at the points, wrapped on the torus.
+    Segments,
+    /// Lines through (spectrum) or offset by (convergence) the points.
+    Lines,
+}
+
+impl Primitive {
+    /// The name on the command line and in scene files.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Primitive::Points => "points",
+            Primitive::Segments => "segments",
+            Primitive::Lines => "lines",
+        }
+    }
+}
+
+/// The density of the sample centres over the hemisphere.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum CentrePdf {
+    /// Uniform in `(φ, θ)`.
+    Uniform,
+    /// Uniform in solid angle.
+    SolidAngle,
+    /// Cosine-weighted.
+    Cosine,
+}
+
+/// The sample patterns of a scene's estimators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+pub enum SceneSampler {
+    /// Independent uniform points.
+    Random,
+    /// Jittered (stratified).
+    Jittered,
+    /// Multi-jittered (Chiu, Shirley & Wang 1994).
+    MultiJittered,
+    /// Correlated multi-jittered (Kensler 2013).
+    Cmj,
+    /// Owen-scrambled Sobol′.
+    Sobol,
+}
+
+impl CentrePdf {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            CentrePdf::Uniform => "uniform",
+            CentrePdf::SolidAngle => "solid-angle",
+            CentrePdf::Cosine => "cosine",
+        }
+    }
+}
+
+impl SceneSampler {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            SceneSampler::Random => "random",
+            SceneSampler::Jittered => "jittered",
+            SceneSampler::MultiJittered => "multi-jittered",
+            SceneSampler::Cmj => "cmj",
+            SceneSampler::Sobol => "sobol",
+        }
+    }
+
+    /// The lab's pattern for this sampler.
+    #[must_use]
+    pub fn pattern(self) -> crate::sampler::Sampler {
+        use crate::sampler::Sampler;
+        match self {
+            SceneSampler::Random => Sampler::Random,
+            SceneSampler::Jittered => Sampler::Jittered,
+            SceneSampler::MultiJittered => Sampler::MultiJittered,
+            SceneSampler::Cmj => Sampler::Cmj,
+            SceneSampler::Sobol => Sampler::Sobol,
+        }
+    }
+}
+
+/// What `linesample-lab merge` asks of an experiment: gather the cells of
+/// the shard runs whose `--out` were `shards` and write the outputs an
+/// unsharded run would write into the folder `out`.
+#[derive(Clone, Debug)]
+pub struct MergeRequest {
+    /// The merged run's output folder.
+    pub out: PathBuf,
+    /// The shard runs' output folders.
+    pub shards: Vec<PathBuf>,
+    /// No progress lines.
+    pub quiet: bool,
 }

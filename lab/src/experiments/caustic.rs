@@ -43,7 +43,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::caustic_scene::{self, CausticScene};
-use crate::cli::{MergeArgs, SceneArgs};
+use crate::cli::SceneArgs;
 use crate::experiments::scene::rgb_png;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
@@ -52,6 +52,7 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{EffectKind, SceneSampler};
+use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
 use crate::streams::{Part, Realisations, Stream};
 
@@ -1154,7 +1155,7 @@ pub fn run_all(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Study::new(config_from(config, KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_study))
 }

@@ -19,7 +19,7 @@ use linesample::stats::RunningStats;
 use linesample::{EstimateError, PatternError, Seed};
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{ConvergenceArgs, MergeArgs, Primitive, ShiftMode};
+use crate::cli::ConvergenceArgs;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures;
 use crate::fit::{fit_loglog, Fit};
@@ -30,6 +30,8 @@ use crate::integrand::{
 use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec, Sampler, DEFAULT_RELATIVE_RADIUS};
+use crate::spec::MergeRequest;
+use crate::spec::{Primitive, ShiftMode};
 use crate::with_dims;
 
 /// The experiment's name.
@@ -1054,7 +1056,7 @@ pub fn main(a: &ConvergenceArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Convergence::new(config_from(config, KIND)?)?;
     merge_to_files(
         &exp,

@@ -46,7 +46,7 @@ use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shad
 use linesample_scene::direct_light_f32::DirectLight32;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{MergeArgs, SceneArgs};
+use crate::cli::SceneArgs;
 use crate::experiments::scene::{rgb_png, SceneSource};
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
@@ -55,6 +55,7 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
+use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
 use crate::streams::{Part, Realisations, Stream};
 
@@ -1987,7 +1988,7 @@ pub fn run_images(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Images::new(config_from(config, KIND)?)?;
     merge_to_files(
         &exp,
@@ -2000,7 +2001,7 @@ pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge_pixel(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_pixels))
 }

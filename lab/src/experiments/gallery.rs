@@ -9,13 +9,15 @@ use std::path::{Path, PathBuf};
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{GalleryArgs, MergeArgs, RunArgs, ShiftArgs, ShiftMode};
+use crate::cli::{GalleryArgs, RunArgs, ShiftArgs};
 use crate::experiments::{
     config_from, file_name, merge_to_files, patterns, run_to_files, spectrum, OutputManifest,
 };
 use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{PatternSpec, Sampler};
+use crate::spec::MergeRequest;
+use crate::spec::ShiftMode;
 
 /// The experiment's name.
 pub const KIND: &str = "gallery";
@@ -351,7 +353,7 @@ pub fn main(a: &GalleryArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Gallery::new(config_from(config, KIND)?);
     merge_to_files(&exp, a, Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)))
 }

@@ -16,8 +16,8 @@ use std::path::Path;
 
 use serde::Serialize;
 
-use crate::cli::MergeArgs;
 use crate::runner::{self, Experiment, Outcome, RunInfo, RunOptions};
+use crate::spec::MergeRequest;
 
 /// How an experiment turns its finished cells into files: `(experiment,
 /// cells in order, run info, --out, quiet)`.
@@ -59,7 +59,7 @@ pub fn run_to_files<E: Experiment>(
 /// Those of [`runner::merge`] and of `complete`.
 pub fn merge_to_files<E: Experiment>(
     exp: &E,
-    a: &MergeArgs,
+    a: &MergeRequest,
     complete: Box<Complete<'_, E>>,
 ) -> Result<(), String> {
     let (cells, info) = runner::merge(exp, &a.out, &a.shards)?;
@@ -151,7 +151,7 @@ pub fn file_name(path: &Path) -> String {
 ///
 /// # Errors
 /// As [`runner::merge`], or if the first shard has no readable manifest.
-pub fn merge(a: &MergeArgs) -> Result<(), String> {
+pub fn merge(a: &MergeRequest) -> Result<(), String> {
     let first = a.shards.first().ok_or("merge: give the shard folders")?;
     let manifest = runner::read_manifest_json(first)?;
     let kind = manifest

@@ -7,10 +7,11 @@ use std::time::Duration;
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{PatternsArgs, ShiftMode};
+use crate::cli::PatternsArgs;
 use crate::figures;
 use crate::io::{self, FileGroup};
 use crate::sampler::{self, PatternSpec, Sampler};
+use crate::spec::ShiftMode;
 
 /// The `patterns` output formats (its `--help`).
 pub const FORMATS: &str = concat!(

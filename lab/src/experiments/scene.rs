@@ -46,7 +46,7 @@ use linesample_scene::occlusion_f32::AoPoint32;
 use serde::{Deserialize, Serialize};
 
 use crate::ao::{self, AoEstimator, Frame};
-use crate::cli::{MergeArgs, SceneArgs, ShiftMode};
+use crate::cli::SceneArgs;
 use crate::experiments::scene_theory;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::image::{self, Color};
@@ -56,6 +56,8 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{self, CentrePdf, Effect, Primitive, Scene, SceneSampler};
+use crate::spec::MergeRequest;
+use crate::spec::ShiftMode;
 use crate::streams::{Part, Realisations, Stream};
 
 /// The image experiment's name.
@@ -1730,7 +1732,11 @@ pub fn complete_pixel(
                 },
                 s.verdict,
                 var_max,
-                fit_sci(s.seconds_to_1pct, 2),
+                if s.verdict == "infinite variance" {
+                    "-".into()
+                } else {
+                    fit_sci(s.seconds_to_1pct, 2)
+                },
                 if s.error.is_empty() {
                     &s.theory_note
                 } else {
@@ -2101,7 +2107,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Images::new(config_from(config, KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_images))
 }
@@ -2110,7 +2116,7 @@ pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge_pixel(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_pixel))
 }

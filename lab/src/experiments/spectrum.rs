@@ -26,7 +26,7 @@ use linesample::Seed;
 use linesample_nufft as nufft;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{MergeArgs, Primitive, ShiftMode, SpectrumArgs};
+use crate::cli::SpectrumArgs;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::{self, image};
 use crate::integrand::join;
@@ -34,6 +34,8 @@ use crate::io::{self, buffer, table, FileGroup};
 use crate::pointfile;
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, PatternSpec};
+use crate::spec::MergeRequest;
+use crate::spec::{Primitive, ShiftMode};
 use crate::with_dims;
 
 /// The experiment's name.
@@ -1277,7 +1279,7 @@ pub fn main(a: &SpectrumArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Spectrum::new(config_from(config, KIND)?, None)?;
     merge_to_files(
         &exp,

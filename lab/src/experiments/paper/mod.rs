@@ -27,13 +27,15 @@ use linesample::stats::RunningStats;
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{MergeArgs, PaperArgs, Primitive};
+use crate::cli::PaperArgs;
 use crate::experiments::convergence::{self, Convergence, DirSpec};
 use crate::experiments::{config_from, merge_to_files, run_to_files};
 use crate::integrand::{to_array, IntegrandKind, Params};
 use crate::io::buffer;
 use crate::runner::{CellInfo, Ctx, Experiment};
 use crate::sampler::{self, PatternSpec};
+use crate::spec::MergeRequest;
+use crate::spec::Primitive;
 
 pub use plan::{Config, Curve, Mode};
 
@@ -555,7 +557,7 @@ pub fn main(a: &PaperArgs) -> Result<(), String> {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeArgs, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
     let exp = Paper::new(config_from(config, KIND)?)?;
     merge_to_files(
         &exp,

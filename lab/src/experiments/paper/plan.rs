@@ -9,10 +9,10 @@ use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
 use super::theory::{EdgeCase, Theory};
-use crate::cli::{Primitive, ShiftMode};
 use crate::experiments::convergence::{self, DirSpec, Row};
 use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEFAULT_SIGMA};
 use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
+use crate::spec::{Primitive, ShiftMode};
 
 /// How much to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]

@@ -10,10 +10,10 @@ use serde::Serialize;
 use super::plan::{Curve, Table};
 use super::theory::Theory;
 use super::{Cell, Paper};
-use crate::cli::Primitive;
 use crate::experiments::convergence::{self, DirSpec, RowResult};
 use crate::fit::{fit_loglog, Fit};
 use crate::integrand::IntegrandKind;
+use crate::spec::Primitive;
 
 /// Slope tolerance of the verdicts: a theory slope within the 95 % interval
 /// widened by this much is "consistent". A log-log fit over one to three

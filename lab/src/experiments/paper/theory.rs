@@ -26,9 +26,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::cli::Primitive;
 use crate::integrand::IntegrandKind;
 use crate::sampler::Sampler;
+use crate::spec::Primitive;
 
 /// `β` as a number, with `∞` as `f64::INFINITY`.
 #[must_use]

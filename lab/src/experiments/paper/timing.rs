@@ -27,9 +27,9 @@ use linesample::{Pcg32, Seed};
 use linesample_nufft::Plan;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::Primitive;
 use crate::integrand::{IntegrandSpec, Params};
 use crate::io::buffer::{empty, filled};
+use crate::spec::Primitive;
 use crate::with_dims;
 
 /// Minimum duration of one timed repeat.

@@ -169,7 +169,11 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
                     format!("N^{th}{}", if log { " log N" } else { "" })
                 },
                 num(&s["fit_chi2_dof"]),
-                fit_sci(num(&s["seconds_to_1pct"]), 2),
+                if s["verdict"] == "infinite variance" {
+                    "–".into()
+                } else {
+                    fit_sci(num(&s["seconds_to_1pct"]), 2)
+                },
                 esc(&match text(&s["error"]) {
                     e if e.is_empty() => text(&s["theory_note"]),
                     e => e,

@@ -11,7 +11,6 @@ use serde::Serialize;
 
 use super::tables::curves_csv;
 use super::{esc, integrand_name, Out};
-use crate::cli::Primitive;
 use crate::experiments::convergence::DirSpec;
 use crate::experiments::paper::plan::{Config, Table};
 use crate::experiments::paper::results::{
@@ -24,6 +23,7 @@ use crate::figures::multi::{self, Labelled, Line, Multi, Series};
 use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEFAULT_SIGMA};
 use crate::io::table;
 use crate::sampler::Sampler;
+use crate::spec::Primitive;
 
 /// The samplers of `curves` in order of first appearance (one colour each).
 fn distinct_samplers(cfg: &Config, curves: impl Iterator<Item = usize>) -> Vec<Sampler> {
