@@ -35,7 +35,7 @@ use linesample::world::Sphere;
 use linesample_scene::HalfPlane;
 use std::f64::consts::{FRAC_PI_2, PI};
 
-use crate::scene::{CentrePdf, Primitive};
+use crate::spec::{CentrePdf, Primitive};
 
 /// One AO estimator: a primitive (with its segment length in `θ`) and a
 /// centre density.

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 
 use clap::{ArgGroup, Args, Parser, Subcommand};
 
+use crate::commands;
 use crate::experiments::paper::{self, Mode};
 use crate::experiments::{convergence, gallery, patterns, scene, spectrum};
 use crate::integrand::IntegrandKind;
@@ -355,9 +356,10 @@ pub struct ShiftArgs {
     /// Homogenisation: `random` (also `--shift` alone) adds an independent
     /// uniform random toroidal shift (Cranley-Patterson rotation), drawn from
     /// the realisation's seed, to every realisation; `none` uses the pattern as
-    /// generated. [default: random for convergence; none for patterns, gallery
-    /// and spectrum (a shift does not change a power spectrum |F|^2, so spectra
-    /// agree either way up to rounding)]
+    /// generated. [default: random for convergence and ambient-occlusion
+    /// scenes; none for patterns, gallery and spectrum (a shift does not change
+    /// a power spectrum |F|^2, so spectra agree either way up to rounding);
+    /// Sobol' only for direct-light and caustic scenes]
     #[arg(
         long,
         value_enum,
@@ -792,14 +794,14 @@ pub fn parse_grid(s: &str) -> Result<(usize, usize), String> {
 /// The command's error message.
 pub fn dispatch(cli: Cli) -> Result<(), String> {
     match cli.command {
-        Some(Command::Paper(a)) => paper::main(&a),
-        Some(Command::Patterns(a)) => patterns::main(&a),
-        Some(Command::Gallery(a)) => gallery::main(&a),
-        Some(Command::Spectrum(a)) => spectrum::main(&a),
-        Some(Command::Convergence(a)) => convergence::main(&a),
+        Some(Command::Paper(a)) => commands::paper::main(&a),
+        Some(Command::Patterns(a)) => commands::patterns::main(&a),
+        Some(Command::Gallery(a)) => commands::gallery::main(&a),
+        Some(Command::Spectrum(a)) => commands::spectrum::main(&a),
+        Some(Command::Convergence(a)) => commands::convergence::main(&a),
         Some(Command::Merge(a)) => crate::experiments::merge(&a.request()),
-        Some(Command::Scene(a)) => scene::main(&a),
-        None => gallery::main(&gallery::default_args()),
+        Some(Command::Scene(a)) => commands::scene::main(&a),
+        None => commands::gallery::main(&commands::gallery::default_args()),
     }
 }
 

@@ -1,20 +1,25 @@
 //! The `linesample-lab` experiment runner, as a library: the binary
 //! (`src/main.rs`) only parses the command line and prints errors.
 //!
-//! Data flows one way: command line ([`cli`]) → typed configuration →
+//! Data flows one way: command line ([`cli`], [`commands`]) → typed
+//! configuration →
 //! [`runner`] (cells on a thread pool, resumable state, shards, progress) →
 //! typed results ([`experiments`]) → files ([`io`], [`figures`]). Nothing
 //! below [`experiments`] knows about files; every number comes from the
 //! `linesample` kernel or the `linesample-nufft` crate.
 //!
 //! - [`cli`]: the subcommands and the option groups they share.
+//! - [`commands`]: each command's arguments to its experiment's typed
+//!   configuration; the only module besides [`cli`] that reads `clap`
+//!   argument types (the experiments never import the CLI).
 //! - [`sampler`], [`integrand`]: registries turning options into kernel
 //!   patterns and integrands; [`with_dims!`] is the one const-generic
 //!   dimension dispatch.
 //! - [`runner`]: the one runner (parallel, resumable, shardable, with
 //!   progress).
-//! - [`experiments`]: `patterns`, `gallery`, `spectrum`, `convergence`, and
-//!   `merge`.
+//! - [`experiments`]: `patterns`, `gallery`, `spectrum`, `convergence`,
+//!   `paper`, the scene experiments (`scene`, `direct`, `caustic` and the
+//!   AO model they share) and `merge`.
 //! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
 //! - [`figures`]: plots (`plotters`, SVG) and PNG images.
 //! - [`fit`]: weighted log-log fits.
@@ -28,6 +33,7 @@
 pub mod ao;
 pub mod caustic_scene;
 pub mod cli;
+pub mod commands;
 mod dims;
 pub mod experiments;
 pub mod figures;

@@ -144,3 +144,30 @@ pub struct MergeRequest {
     /// No progress lines.
     pub quiet: bool,
 }
+
+/// How much to run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
+#[value(rename_all = "kebab-case")]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// Every table, sized for a few minutes on two cores (the default).
+    Quick,
+    /// Every table with more N and more realisations (publication quality).
+    Full,
+    /// Every table with few N, few realisations and fewer samplers (random
+    /// and jittered in the rate table): an end-to-end check of every output
+    /// for tests and CI, not for reading.
+    Reduced,
+}
+
+impl Mode {
+    /// The command-line name.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Quick => "quick",
+            Mode::Full => "full",
+            Mode::Reduced => "reduced",
+        }
+    }
+}

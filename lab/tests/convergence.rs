@@ -20,7 +20,11 @@ fn config(args: &[&str]) -> convergence::Config {
     let mut full = vec!["linesample-lab", "convergence"];
     full.extend(args);
     match Cli::try_parse_from(full).unwrap().command {
-        Some(Command::Convergence(a)) => convergence::resolve(&a).unwrap().0,
+        Some(Command::Convergence(a)) => {
+            linesample_lab::commands::convergence::resolve(&a)
+                .unwrap()
+                .0
+        }
         other => panic!("{other:?}"),
     }
 }

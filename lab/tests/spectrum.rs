@@ -499,7 +499,7 @@ fn config(args: &[&str]) -> (spectrum::Config, Option<Vec<Vec<f64>>>) {
     full.extend(args);
     match Cli::try_parse_from(full).unwrap().command {
         Some(Command::Spectrum(a)) => {
-            let r = spectrum::resolve(&a).unwrap();
+            let r = linesample_lab::commands::spectrum::resolve(&a).unwrap();
             (r.config, r.files)
         }
         other => panic!("{other:?}"),

@@ -43,7 +43,6 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::caustic_scene::{self, CausticScene};
-use crate::cli::SceneArgs;
 use crate::experiments::scene::rgb_png;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Line, Multi, Series};
@@ -1082,39 +1081,6 @@ pub fn study_rows(samplers: &[SceneSampler]) -> Vec<(Estimator, SceneSampler)> {
         .collect()
 }
 
-/// `linesample-lab scene FILE` for a volumetric-caustic scene whose file
-/// holds `text`.
-///
-/// # Errors
-/// A scene error, a bad option or a run error.
-pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
-    let scene = caustic_scene::parse(&a.file, &text).map_err(|e| e.to_string())?;
-    let source = CausticSource {
-        path: a.file.display().to_string(),
-        text,
-    };
-    if a.pixel.is_some() {
-        return Err("--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into());
-    }
-    let out = a.out.clone().unwrap_or_else(|| default_out(&a.file));
-    let opts = a.run.options();
-    let samplers = a.samplers.clone().unwrap_or_else(|| scene.samplers.clone());
-    run_all(
-        source,
-        a.resolution,
-        None,
-        a.run.seed,
-        a.pixel_n.clone(),
-        a.realisations,
-        study_rows(&samplers),
-        a.reference_lines.unwrap_or(1 << 16),
-        a.reference_realisations.unwrap_or(64),
-        a.run.shift.shift,
-        &out,
-        &opts,
-    )
-}
-
 /// The image (unless sharded), then the study.
 ///
 /// # Errors
@@ -1176,12 +1142,12 @@ pub const SCENE_3D: &str = include_str!("../../../scenes/caustic-3d.toml");
 /// # Errors
 /// A run error.
 pub fn paper_runs(
-    mode: crate::experiments::paper::plan::Mode,
+    mode: crate::spec::Mode,
     seed: u64,
     dir: &Path,
     opts: &RunOptions,
 ) -> Result<(), String> {
-    use crate::experiments::paper::plan::Mode;
+    use crate::spec::Mode;
     let (res, beams, ns, r): (u32, u64, Vec<usize>, u64) = match mode {
         Mode::Reduced => (128, 1 << 14, vec![16, 64, 256], 40),
         Mode::Quick => (256, 1 << 18, vec![16, 64, 256, 1024, 4096], 300),

@@ -19,14 +19,10 @@ use linesample::stats::RunningStats;
 use linesample::{EstimateError, PatternError, Seed};
 use serde::{Deserialize, Serialize};
 
-use crate::cli::ConvergenceArgs;
-use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
+use crate::experiments::{config_from, file_name, merge_to_files, OutputManifest};
 use crate::figures;
 use crate::fit::{fit_loglog, Fit};
-use crate::integrand::{
-    join, to_array, IntegrandKind, IntegrandSpec, Params, DEFAULT_OFFSET, DEFAULT_RADIUS,
-    DEFAULT_SIGMA,
-};
+use crate::integrand::{join, to_array, IntegrandSpec};
 use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec, Sampler, DEFAULT_RELATIVE_RADIUS};
@@ -47,7 +43,7 @@ pub const DEFAULT_NS: [usize; 5] = [16, 64, 256, 1024, 4096];
 /// Reference slopes drawn in the plot.
 const REFERENCE_SLOPES: [f64; 4] = [-1.0, -1.5, -2.0, -3.0];
 /// Default `--length`.
-const DEFAULT_LENGTH: f64 = 0.1;
+pub(crate) const DEFAULT_LENGTH: f64 = 0.1;
 
 /// The CSV header (the first line of `convergence.csv`).
 pub const CSV_HEADER: &str =
@@ -243,7 +239,7 @@ impl Config {
 }
 
 /// The `m` minimising `|m^d − x|` (`m ≥ 1`).
-fn nearest_power(x: f64, d: usize) -> usize {
+pub(crate) fn nearest_power(x: f64, d: usize) -> usize {
     let exp = i32::try_from(d).unwrap_or(i32::MAX);
     let m = x.max(1.0).powf(1.0 / d as f64).floor().max(1.0) as usize;
     let pow = |m: usize| (m as f64).powi(exp);
@@ -256,229 +252,8 @@ fn nearest_power(x: f64, d: usize) -> usize {
     best
 }
 
-fn not_for(option: &str, what: &str, got: &str) -> String {
+pub(crate) fn not_for(option: &str, what: &str, got: &str) -> String {
     format!("{option} applies only to {what} (got {got})")
-}
-
-/// Resolves the command line into a configuration and the output prefix.
-///
-/// # Errors
-/// A message naming the offending option.
-pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
-    let dims = usize::from(a.dims);
-    let ia = &a.integrand;
-    let kind = ia.integrand;
-    let got_integrand = format!("--integrand {}", kind.name());
-    if kind == IntegrandKind::Disk && dims != 2 {
-        return Err(format!(
-            "--dims {dims}: --integrand disk is 2D only; use --integrand ball for --dims 3"
-        ));
-    }
-    let is_ball = matches!(kind, IntegrandKind::Disk | IntegrandKind::Ball);
-    if ia.radius.is_some() && !is_ball {
-        return Err(not_for(
-            "--radius",
-            "--integrand disk or ball",
-            &got_integrand,
-        ));
-    }
-    if ia.sigma.is_some() && kind != IntegrandKind::Gaussian {
-        return Err(not_for("--sigma", "--integrand gaussian", &got_integrand));
-    }
-    if (ia.normal.is_some() || ia.offset.is_some()) && kind != IntegrandKind::Edge {
-        let opt = if ia.normal.is_some() {
-            "--normal"
-        } else {
-            "--offset"
-        };
-        return Err(not_for(opt, "--integrand edge", &got_integrand));
-    }
-    let params = match kind {
-        IntegrandKind::Disk | IntegrandKind::Ball => Params::Ball {
-            radius: ia.radius.unwrap_or(DEFAULT_RADIUS),
-        },
-        IntegrandKind::Gaussian => Params::Gaussian {
-            sigma: ia.sigma.unwrap_or(DEFAULT_SIGMA),
-        },
-        IntegrandKind::Edge => {
-            let normal = match &ia.normal {
-                Some(v) if v.len() != dims => {
-                    return Err(format!(
-                        "--normal has {} component(s) but --dims is {dims}: give {dims} \
-                         comma-separated numbers",
-                        v.len()
-                    ))
-                }
-                Some(v) => v.clone(),
-                None if dims == 2 => vec![0.7, 1.0],
-                None => vec![0.7, 1.0, 0.4],
-            };
-            Params::Edge {
-                normal,
-                offset: ia.offset.unwrap_or(DEFAULT_OFFSET),
-            }
-        }
-    };
-    let integrand = IntegrandSpec { kind, dims, params };
-
-    let pa = &a.primitive;
-    let prim = pa.primitive;
-    let got_prim = format!("--primitive {}", prim.name());
-    if pa.length.is_some() && prim != Primitive::Segments {
-        return Err(not_for("--length", "--primitive segments", &got_prim));
-    }
-    let length = pa.length.unwrap_or(DEFAULT_LENGTH);
-    let oriented = "--primitive segments or lines";
-    let dirs = if prim == Primitive::Points {
-        if pa.direction.is_some() {
-            return Err(not_for("--direction", oriented, &got_prim));
-        }
-        if a.random_direction {
-            return Err(not_for("--random-direction", oriented, &got_prim));
-        }
-        if a.groups.is_some() {
-            return Err(not_for("--groups", oriented, &got_prim));
-        }
-        DirSpec::None
-    } else if a.random_direction {
-        DirSpec::Random
-    } else if let Some(k) = a.groups {
-        if k == 0 {
-            return Err("--groups 0: expected at least 1 direction group".into());
-        }
-        DirSpec::Groups(k)
-    } else {
-        match &pa.direction {
-            Some(v) if v.len() != dims => {
-                return Err(format!(
-                    "--direction has {} component(s) but --dims is {dims}: give {dims} \
-                     comma-separated numbers",
-                    v.len()
-                ))
-            }
-            Some(v) => DirSpec::Fixed(v.clone()),
-            None => {
-                let mut v = vec![0.0; dims];
-                v[dims - 1] = 1.0;
-                DirSpec::Fixed(v)
-            }
-        }
-    };
-
-    let sampler = a.sampler;
-    let pdims = if prim == Primitive::Lines {
-        dims - 1
-    } else {
-        dims
-    };
-    if !sampler.dims().contains(&pdims) {
-        let ds: Vec<String> = sampler.dims().iter().map(ToString::to_string).collect();
-        return Err(if prim == Primitive::Lines {
-            format!(
-                "--sampler {sampler} cannot place line offsets for --dims {dims}: lines need a \
-                 {pdims}D pattern and {sampler} supports only {}D",
-                ds.join("D, ")
-            )
-        } else {
-            format!(
-                "--dims {dims}: --sampler {sampler} supports only --dims {}",
-                ds.join(", ")
-            )
-        });
-    }
-    if a.realisations < 4 {
-        return Err(format!(
-            "--realisations {}: expected at least 4 (the standard error of the variance \
-             needs 4 realisations)",
-            a.realisations
-        ));
-    }
-    if a.n.is_empty() {
-        return Err("--n: expected at least one sample count".into());
-    }
-    let groups = match dirs {
-        DirSpec::Groups(k) => k,
-        _ => 1,
-    };
-    let mut notes = Vec::new();
-    let mut rows: Vec<Row> = Vec::new();
-    for &requested in &a.n {
-        if requested == 0 {
-            return Err("--n 0: every N must be at least 1".into());
-        }
-        if requested < groups {
-            return Err(format!(
-                "--n {requested}: fewer samples than --groups {groups} (every group needs at \
-                 least one primitive)"
-            ));
-        }
-        let mut per_group = ((requested as f64) / groups as f64).round().max(1.0) as usize;
-        let mut why = Vec::new();
-        if groups > 1 && per_group * groups != requested {
-            why.push(format!("a multiple of --groups {groups}"));
-        }
-        if sampler == Sampler::Jittered && pdims > 1 {
-            let m = nearest_power(per_group as f64, pdims);
-            let p = m.pow(u32::try_from(pdims).unwrap_or(1));
-            if p != per_group {
-                why.push(format!("m^{pdims} points per pattern"));
-            }
-            per_group = p;
-            if !why.is_empty() {
-                let strata = vec![m.to_string(); pdims].join("x");
-                let n = per_group * groups;
-                notes.push(format!(
-                    "--n {requested} -> N = {n}: --sampler jittered needs {} ({strata} strata{})",
-                    why.join(" and "),
-                    if groups > 1 {
-                        format!(" per group, {groups} groups")
-                    } else {
-                        String::new()
-                    }
-                ));
-            }
-        } else if !why.is_empty() {
-            notes.push(format!(
-                "--n {requested} -> N = {}: N must be {}",
-                per_group * groups,
-                why.join(" and ")
-            ));
-        }
-        let n = per_group * groups;
-        if let Some(prev) = rows.iter().find(|r| r.n == n) {
-            return Err(format!(
-                "--n: {} and {requested} both give N = {n}{}; give distinct sample counts",
-                prev.requested,
-                if sampler == Sampler::Jittered {
-                    " after rounding to a jittered grid"
-                } else {
-                    " after rounding"
-                }
-            ));
-        }
-        rows.push(Row {
-            requested,
-            per_group,
-            n,
-        });
-    }
-    let config = Config {
-        integrand,
-        primitive: prim,
-        sampler,
-        relative_radius: a.poisson.relative_radius,
-        bridson: a.poisson.bridson,
-        length,
-        dirs,
-        rows,
-        realisations: a.realisations,
-        seed: a.run.seed,
-        shift: a.run.shift_or(ShiftMode::Random),
-        notes,
-    };
-    let out = a.out.clone().unwrap_or_else(|| config.default_out());
-    io::check_folder("--out", &out)?;
-    Ok((config, out))
 }
 
 /// The fixed direction, or the `K` group directions (documented at `--groups`).
@@ -1034,22 +809,6 @@ pub fn complete(
         );
     }
     Ok(res)
-}
-
-/// `linesample-lab convergence`.
-///
-/// # Errors
-/// A message naming the offending option, file or cell.
-pub fn main(a: &ConvergenceArgs) -> Result<(), String> {
-    let (config, out) = resolve(a)?;
-    let exp = Convergence::new(config)?;
-    let opts = a.run.options();
-    run_to_files(
-        &exp,
-        &out,
-        &opts,
-        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q).map(|_| ())),
-    )
 }
 
 /// `linesample-lab merge` for convergence shards.

@@ -4,14 +4,13 @@
 //! uses every thread).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::{GalleryArgs, RunArgs, ShiftArgs};
 use crate::experiments::{
-    config_from, file_name, merge_to_files, patterns, run_to_files, spectrum, OutputManifest,
+    config_from, file_name, merge_to_files, patterns, spectrum, OutputManifest,
 };
 use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
@@ -306,46 +305,6 @@ fn reproduce(cfg: &Config) -> String {
         } else {
             ""
         }
-    )
-}
-
-/// The arguments of the default job (`linesample-lab` without a subcommand).
-#[must_use]
-pub fn default_args() -> GalleryArgs {
-    GalleryArgs {
-        out_dir: PathBuf::from("out/patterns"),
-        runs: 5,
-        spectrum_realizations: 16,
-        run: RunArgs {
-            seed: 1,
-            shift: ShiftArgs { shift: None },
-            threads: None,
-            quiet: false,
-            fresh: false,
-            shard: None,
-        },
-    }
-}
-
-/// `linesample-lab gallery`.
-///
-/// # Errors
-/// A message naming the pattern and what failed.
-pub fn main(a: &GalleryArgs) -> Result<(), String> {
-    let config = Config {
-        entries: entries(),
-        seed: a.run.seed,
-        runs: a.runs,
-        spectrum_realizations: a.spectrum_realizations,
-        shift: a.run.shift_or(ShiftMode::None),
-    };
-    let exp = Gallery::new(config);
-    let opts = a.run.options();
-    run_to_files(
-        &exp,
-        &a.out_dir,
-        &opts,
-        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)),
     )
 }
 

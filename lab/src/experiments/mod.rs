@@ -2,6 +2,7 @@
 //! [`crate::runner`], and returns typed results; printing and files are
 //! separate functions that read those results.
 
+pub mod ao_model;
 pub mod caustic;
 pub mod convergence;
 pub mod direct;

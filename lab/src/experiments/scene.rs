@@ -36,17 +36,13 @@
 //! rounding alone).
 
 use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample::world::Sphere;
-use linesample::Seed;
-use linesample_scene::occlusion_f32::AoPoint32;
 use serde::{Deserialize, Serialize};
 
-use crate::ao::{self, AoEstimator, Frame};
-use crate::cli::SceneArgs;
+pub use crate::experiments::ao_model::{EstimatorSpec, Offsets, Pixel, World, SIMD_SPHERES};
 use crate::experiments::scene_theory;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::image::{self, Color};
@@ -54,8 +50,7 @@ use crate::figures::multi::{self, Line, Multi, Series};
 use crate::fit::{fit_loglog, fit_sci, n_to_target};
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
-use crate::sampler::{self, DynPattern, PatternSpec};
-use crate::scene::{self, CentrePdf, Effect, Primitive, Scene, SceneSampler};
+use crate::scene::{self, CentrePdf, Primitive, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
 use crate::streams::{Part, Realisations, Stream};
@@ -117,264 +112,6 @@ Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
 ",
     crate::files_note!()
 );
-
-/// One estimator of a scene: primitive, segment length (segments), centre
-/// density (points and segments) and sampler.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct EstimatorSpec {
-    pub primitive: Primitive,
-    /// Segment length in `θ` (segments; 0 otherwise).
-    pub length: f64,
-    pub pdf: CentrePdf,
-    pub sampler: SceneSampler,
-    /// Lines only: the kernel's `f32` SIMD batch
-    /// ([`linesample_scene::occlusion_f32::AoPoint32::line_batch_f32`])
-    /// instead of the `f64` closed form.
-    #[serde(default)]
-    pub simd: bool,
-}
-
-impl EstimatorSpec {
-    /// The kernel-side estimator.
-    #[must_use]
-    pub fn ao(&self) -> AoEstimator {
-        AoEstimator {
-            primitive: self.primitive,
-            length: self.length,
-            pdf: self.pdf,
-        }
-    }
-
-    /// `points`, `segments-0.1`, `lines` (without sampler and density).
-    #[must_use]
-    pub fn stem(&self) -> String {
-        match self.primitive {
-            Primitive::Segments if (self.length - std::f64::consts::PI).abs() < 1e-12 => {
-                "segments-pi".into()
-            }
-            Primitive::Segments => format!("segments-{}", self.length),
-            Primitive::Lines if self.simd => "lines-f32".into(),
-            p => p.name().into(),
-        }
-    }
-
-    /// `segments-0.1 uniform jittered` (lines have no density).
-    #[must_use]
-    pub fn label(&self) -> String {
-        match self.primitive {
-            Primitive::Lines if self.simd => format!("lines f32-simd {}", self.sampler.name()),
-            Primitive::Lines => format!("lines {}", self.sampler.name()),
-            _ => format!(
-                "{} {} {}",
-                self.stem(),
-                self.pdf.name(),
-                self.sampler.name()
-            ),
-        }
-    }
-}
-
-/// The sample offsets of an estimator: `N` points of `[0, 1)²` for points and
-/// segments (`u` → azimuth, `v` → centre angle); `N` azimuth offsets for lines,
-/// from the sampler's 1D pattern (random, jittered, Sobol′), or the `u`
-/// coordinates of its 2D pattern (multi-jittered and CMJ, whose `u`
-/// projection is stratified into `N` strata: a 1D jittered pattern).
-pub struct Offsets {
-    two: Option<DynPattern<2>>,
-    one: Option<DynPattern<1>>,
-    n: usize,
-}
-
-impl Offsets {
-    /// The offsets of `spec` with `n` samples, toroidally shifted per
-    /// realisation when `shift`.
-    ///
-    /// # Errors
-    /// A sample count the sampler does not support.
-    pub fn new(spec: &EstimatorSpec, n: usize, shift: bool) -> Result<Self, String> {
-        let s = spec.sampler.pattern();
-        let one_d = spec.primitive == Primitive::Lines
-            && !matches!(
-                spec.sampler,
-                SceneSampler::MultiJittered | SceneSampler::Cmj
-            );
-        let err = |e: String| format!("{} with N = {n}: {e}", spec.label());
-        if one_d {
-            let b = sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift).map_err(err)?;
-            Ok(Offsets {
-                two: None,
-                one: Some(b.pattern),
-                n,
-            })
-        } else {
-            let b = sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift).map_err(err)?;
-            Ok(Offsets {
-                two: Some(b.pattern),
-                one: None,
-                n,
-            })
-        }
-    }
-
-    /// Writes realisation `seed`'s offsets to `out` (length `N`).
-    ///
-    /// # Errors
-    /// The pattern's error.
-    pub fn fill(&self, seed: Seed, out: &mut Vec<[f32; 2]>) -> Result<(), String> {
-        out.resize(self.n, [0.5, 0.5]);
-        if let Some(p) = &self.two {
-            p.fill(seed, out).map_err(|e| e.to_string())
-        } else if let Some(p) = &self.one {
-            let mut one = vec![[0.0f32; 1]; self.n];
-            p.fill(seed, &mut one).map_err(|e| e.to_string())?;
-            for (o, u) in out.iter_mut().zip(&one) {
-                *o = [u[0], 0.5];
-            }
-            Ok(())
-        } else {
-            Err("internal error: offsets without a pattern".into())
-        }
-    }
-}
-
-/// Sphere capacity of the `f32` line batch's prepared shading point.
-pub const SIMD_SPHERES: usize = 32;
-
-/// The shading geometry of one pixel.
-pub struct Pixel {
-    frame: Frame,
-    /// The `f32` batch's prepared point (`None` with more than
-    /// [`SIMD_SPHERES`] spheres that can occlude it).
-    ao32: Option<AoPoint32<SIMD_SPHERES>>,
-}
-
-/// What every estimate needs: the scene's spheres and its effect.
-pub struct World {
-    spheres: Vec<Sphere<3>>,
-    max_distance: f64,
-    scene: Scene,
-}
-
-impl World {
-    /// The world of a checked scene, rendered at `width × height`.
-    ///
-    /// # Errors
-    /// A sphere the kernel refuses.
-    pub fn new(mut scene: Scene, width: u32, height: u32) -> Result<Self, String> {
-        scene.camera.width = width;
-        scene.camera.height = height;
-        let spheres = scene.kernel_spheres()?;
-        let Effect::AmbientOcclusion { max_distance } = scene.effect else {
-            return Err("not an ambient-occlusion scene".into());
-        };
-        Ok(World {
-            spheres,
-            max_distance,
-            scene,
-        })
-    }
-
-    /// The shading point of pixel `(x, y)` (camera ray through its centre),
-    /// or `None` where the ray leaves the scene.
-    #[must_use]
-    pub fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
-        let (o, d) = self
-            .scene
-            .camera
-            .ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
-        let hit = Scene::first_hit(&self.spheres, o, d)?;
-        let frame = Frame::new(hit.point, hit.normal);
-        let ao32 = AoPoint32::new(
-            frame.point,
-            frame.normal,
-            frame.tangent,
-            &self.spheres,
-            self.max_distance,
-        )
-        .ok();
-        Some(Pixel { frame, ao32 })
-    }
-
-    /// The estimate of `spec` from the offsets `uv`: the mean of its
-    /// samples ([`ao::sample`]), or for `f32` SIMD lines the mean of
-    /// `line_batch_f32` over `φ = πu` (summed in `f64`).
-    ///
-    /// # Errors
-    /// A degenerate shading frame, or `f32` lines at a point with more than
-    /// [`SIMD_SPHERES`] occluding spheres.
-    pub fn estimate(
-        &self,
-        px: &Pixel,
-        spec: &EstimatorSpec,
-        uv: &[[f32; 2]],
-        scratch: &mut [(f64, f64)],
-    ) -> Result<f64, String> {
-        if spec.simd && spec.primitive == Primitive::Lines {
-            let ao32 = px.ao32.as_ref().ok_or_else(|| {
-                format!("f32 lines: more than {SIMD_SPHERES} spheres can occlude this point")
-            })?;
-            let (mut phis, mut out) = ([0.0f32; 64], [0.0f32; 64]);
-            let mut sum = 0.0;
-            for chunk in uv.chunks(64) {
-                let k = chunk.len();
-                for (f, p) in phis.iter_mut().zip(chunk) {
-                    *f = std::f32::consts::PI * p[0];
-                }
-                ao32.line_batch_f32(&phis[..k], &mut out[..k])
-                    .map_err(|e| e.to_string())?;
-                sum += out[..k].iter().map(|&x| f64::from(x)).sum::<f64>();
-            }
-            return Ok(sum / uv.len() as f64);
-        }
-        let est = spec.ao();
-        let mut sum = 0.0;
-        for p in uv {
-            sum += ao::sample(
-                &self.spheres,
-                self.max_distance,
-                &px.frame,
-                &est,
-                f64::from(p[0]),
-                f64::from(p[1]),
-                scratch,
-            )?;
-        }
-        Ok(sum / uv.len() as f64)
-    }
-
-    /// One sample's estimate at `(u, v)` ([`ao::sample`]).
-    ///
-    /// # Errors
-    /// A degenerate shading frame.
-    pub fn sample(
-        &self,
-        px: &Pixel,
-        est: &AoEstimator,
-        u: f64,
-        v: f64,
-        scratch: &mut [(f64, f64)],
-    ) -> Result<f64, String> {
-        ao::sample(
-            &self.spheres,
-            self.max_distance,
-            &px.frame,
-            est,
-            u,
-            v,
-            scratch,
-        )
-    }
-
-    /// Number of spheres (scratch holds twice as many intervals).
-    #[must_use]
-    pub fn sphere_count(&self) -> usize {
-        self.spheres.len()
-    }
-
-    fn scratch(&self) -> Vec<(f64, f64)> {
-        vec![(0.0, 0.0); 2 * self.spheres.len()]
-    }
-}
 
 /// The reference estimator: lines with 1D-jittered azimuths.
 const REFERENCE: EstimatorSpec = EstimatorSpec {
@@ -1923,7 +1660,7 @@ fn reproduce_pixel(cfg: &PixelConfig) -> String {
 
 // ---------------------------------------------------------------- entry
 
-fn read_source(path: &Path) -> Result<(SceneSource, Scene), String> {
+pub(crate) fn read_source(path: &Path) -> Result<(SceneSource, Scene), String> {
     let scene = scene::load(path).map_err(|e| e.to_string())?;
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     Ok((
@@ -1984,7 +1721,11 @@ pub fn all_rows(scene: &Scene) -> Vec<EstimatorSpec> {
 /// The estimators of the images: the scene's primitives (segments once per
 /// length) with `pdf` and `sampler`, and the lines once more through the
 /// kernel's `f32` SIMD batch (what accuracy costs in time).
-fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec<EstimatorSpec> {
+pub(crate) fn image_estimators(
+    scene: &Scene,
+    pdf: CentrePdf,
+    sampler: SceneSampler,
+) -> Vec<EstimatorSpec> {
     let mut estimators = Vec::new();
     for &primitive in &scene.estimators.primitives {
         let e = EstimatorSpec {
@@ -2008,99 +1749,6 @@ fn image_estimators(scene: &Scene, pdf: CentrePdf, sampler: SceneSampler) -> Vec
         }
     }
     estimators
-}
-
-/// `linesample-lab scene`.
-///
-/// # Errors
-/// A scene file error (file, line, field), a bad option, or a run error.
-pub fn main(a: &SceneArgs) -> Result<(), String> {
-    let text = std::fs::read_to_string(&a.file)
-        .map_err(|e| format!("{}: cannot read it: {e}", a.file.display()))?;
-    if crate::scene::effect_kind(&a.file, &text).map_err(|e| e.to_string())?
-        == crate::scene::EffectKind::VolumetricCaustic
-    {
-        return crate::experiments::caustic::main(a, text);
-    }
-    let (source, scene) = read_source(&a.file)?;
-    if scene.effect == Effect::DirectLight {
-        let out = a
-            .out
-            .clone()
-            .unwrap_or_else(|| crate::experiments::direct::default_out(&a.file));
-        return crate::experiments::direct::main(a, source, &scene, &out);
-    }
-    let (width, height) = match a.resolution {
-        Some(r) => r,
-        None => (scene.camera.width, scene.camera.height),
-    };
-    let stem = a
-        .file
-        .file_stem()
-        .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from("out/scene").join(stem));
-    let opts = a.run.options();
-    let shift = a.run.shift_or(ShiftMode::Random);
-    if let Some((x, y)) = a.pixel {
-        let mut rows = all_rows(&scene);
-        if let Some(samplers) = &a.samplers {
-            rows.retain(|r| samplers.contains(&r.sampler));
-        }
-        if rows.is_empty() {
-            return Err("--samplers: none of the scene's samplers is left".into());
-        }
-        let config = PixelConfig {
-            source: source.clone(),
-            width,
-            height,
-            pixel: (x, y),
-            seed: a.run.seed,
-            shift,
-            ns: a.pixel_n.clone(),
-            realisations: a.realisations,
-            rows,
-            reference_lines: a.reference_lines.unwrap_or(4096),
-            reference_realisations: a.reference_realisations.unwrap_or(64),
-            spectrum_realisations: a.spectrum_realisations,
-        };
-        let exp = PixelStudy::new(config)?;
-        return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
-    }
-    let sampler = a.sampler.unwrap_or(SceneSampler::MultiJittered);
-    let max = 4 * a.n;
-    let lad = ladder(sampler, max);
-    if !lad.contains(&a.n) {
-        return Err(format!(
-            "--n {}: {} needs {} (a ladder value)",
-            a.n,
-            sampler.name(),
-            if sampler == SceneSampler::Jittered {
-                "a square"
-            } else {
-                "a power of two"
-            }
-        ));
-    }
-    let estimators = image_estimators(&scene, a.pdf, sampler);
-    let config = ImagesConfig {
-        source: source.clone(),
-        width,
-        height,
-        seed: a.run.seed,
-        shift,
-        n: a.n,
-        ladder: lad,
-        estimators,
-        variance_realisations: a.variance_realisations,
-        reference_lines: a.reference_lines.unwrap_or(64),
-        reference_realisations: a.reference_realisations.unwrap_or(16),
-        rows_per_cell: 8,
-    };
-    let exp = Images::new(config)?;
-    run_to_files(&exp, &out, &opts, Box::new(complete_images))
 }
 
 /// `linesample-lab merge` for scene image shards.
@@ -2144,12 +1792,12 @@ pub const PAPER_PIXELS: [(u32, u32); 2] = [(410, 305), (300, 290)];
 /// # Errors
 /// A run error.
 pub fn paper_runs(
-    mode: crate::experiments::paper::plan::Mode,
+    mode: crate::spec::Mode,
     seed: u64,
     dir: &Path,
     opts: &crate::runner::RunOptions,
 ) -> Result<u32, String> {
-    use crate::experiments::paper::plan::Mode;
+    use crate::spec::Mode;
     let source = SceneSource {
         path: AO_SCENE_NAME.into(),
         text: AO_SCENE.into(),

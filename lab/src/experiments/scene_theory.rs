@@ -40,7 +40,7 @@ use linesample::spectrum::Grid;
 use linesample::Seed;
 use linesample_nufft::Plan;
 
-use super::scene::{EstimatorSpec, Offsets, Pixel, World};
+use super::ao_model::{EstimatorSpec, Offsets, Pixel, World};
 use crate::io::buffer;
 use crate::scene::{Primitive, SceneSampler};
 

@@ -27,9 +27,8 @@ use linesample::stats::RunningStats;
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
 
-use crate::cli::PaperArgs;
 use crate::experiments::convergence::{self, Convergence, DirSpec};
-use crate::experiments::{config_from, merge_to_files, run_to_files};
+use crate::experiments::{config_from, merge_to_files};
 use crate::integrand::{to_array, IntegrandKind, Params};
 use crate::io::buffer;
 use crate::runner::{CellInfo, Ctx, Experiment};
@@ -484,73 +483,6 @@ fn predict<const K: usize>(
         periodogram: if p.figure { sums.to_vec() } else { Vec::new() },
         realisations,
     })
-}
-
-/// Resolves the command line.
-///
-/// # Errors
-/// A message naming the offending option.
-pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf), String> {
-    if a.run.shift.shift.is_some() {
-        return Err(
-            "--shift: paper homogenises every curve itself (random toroidal shift per \
-                    realisation; randomised edge position for the straight edge); it takes no \
-                    --shift"
-                .into(),
-        );
-    }
-    let mode = if a.full {
-        if a.mode.is_some_and(|m| m != Mode::Full) {
-            return Err("--full and --mode: give one of them".into());
-        }
-        Mode::Full
-    } else {
-        a.mode.unwrap_or(Mode::Quick)
-    };
-    let out = a
-        .out
-        .clone()
-        .unwrap_or_else(|| std::path::PathBuf::from(DEFAULT_OUT));
-    if out.file_name().is_none() || out.is_file() {
-        return Err(format!(
-            "--out {}: expected a folder such as {DEFAULT_OUT}",
-            out.display()
-        ));
-    }
-    Ok((plan::plan(mode, a.run.seed), out))
-}
-
-/// `linesample-lab paper`.
-///
-/// # Errors
-/// A message naming the offending option, file or cell.
-pub fn main(a: &PaperArgs) -> Result<(), String> {
-    let (config, out) = resolve(a)?;
-    let opts = a.run.options();
-    if opts.shard.is_none() {
-        // The AO scene section's runs (resumable on their own); a sharded
-        // paper run leaves them out (the report says how to add them).
-        crate::experiments::scene::paper_runs(config.mode, config.seed, &out.join("ao"), &opts)?;
-        crate::experiments::direct::paper_runs(
-            config.mode,
-            config.seed,
-            &out.join("direct"),
-            &opts,
-        )?;
-        crate::experiments::caustic::paper_runs(
-            config.mode,
-            config.seed,
-            &out.join("caustics"),
-            &opts,
-        )?;
-    }
-    let exp = Paper::new(config)?;
-    run_to_files(
-        &exp,
-        &out,
-        &opts,
-        Box::new(|e, c, i, o, q| report::complete(e, &c, i, o, q).map(|_| ())),
-    )
 }
 
 /// `linesample-lab merge` for paper shards.

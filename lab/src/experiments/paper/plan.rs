@@ -5,7 +5,6 @@
 
 use std::collections::BTreeMap;
 
-use clap::ValueEnum;
 use serde::{Deserialize, Serialize};
 
 use super::theory::{EdgeCase, Theory};
@@ -14,32 +13,7 @@ use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEF
 use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
 use crate::spec::{Primitive, ShiftMode};
 
-/// How much to run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
-#[value(rename_all = "kebab-case")]
-#[serde(rename_all = "kebab-case")]
-pub enum Mode {
-    /// Every table, sized for a few minutes on two cores (the default).
-    Quick,
-    /// Every table with more N and more realisations (publication quality).
-    Full,
-    /// Every table with few N, few realisations and fewer samplers (random
-    /// and jittered in the rate table): an end-to-end check of every output
-    /// for tests and CI, not for reading.
-    Reduced,
-}
-
-impl Mode {
-    /// The command-line name.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Quick => "quick",
-            Mode::Full => "full",
-            Mode::Reduced => "reduced",
-        }
-    }
-}
+pub use crate::spec::Mode;
 
 /// The tables of the report.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
