@@ -234,8 +234,7 @@ pub enum Command {
     /// X,Y studies that one pixel instead. By default only Sobol' points get
     /// a random toroidal shift per realisation; the other patterns are used
     /// unshifted (a shift would misalign jittered strata with the light's
-    /// edges); --shift random shifts every pattern, --shift none none (not
-    /// with sobol).
+    /// edges); --shift random shifts every pattern, --shift none none.
     ///
     /// Volumetric caustic (no camera: light, glass ball, medium, query ball
     /// Q): the fluence image rendered with the file's fluence.beams

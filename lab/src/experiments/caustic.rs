@@ -191,7 +191,7 @@ impl Pattern {
     ///
     /// # Errors
     /// A count the sampler cannot make (jittered in 2D or 3D needs a power
-    /// of two), or `--shift none` with Sobol′.
+    /// of two).
     pub fn new(
         sampler: SceneSampler,
         k: usize,
@@ -205,7 +205,7 @@ impl Pattern {
                 format!("jittered in {k}D needs N a power of two (balanced strata), got {n}")
             })?);
         }
-        let shift = scene_shift(sampler, shift)?;
+        let shift = scene_shift(sampler, shift);
         let err = |e: String| format!("{} in {k}D with N = {n}: {e}", sampler.name());
         Ok(match k {
             1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),

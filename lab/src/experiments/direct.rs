@@ -553,19 +553,18 @@ impl Pattern {
     /// `est`'s pattern of `n` samples, shifted per realisation as
     /// [`scene_shift`] says for `shift` (`--shift`). By default patterns
     /// that are random by construction (random, jittered, multi-jittered,
-    /// CMJ) are used as they are, and the deterministic ones (Sobol′) get a
-    /// random toroidal shift per realisation. A shift would move a jittered
+    /// CMJ) are used as they are, and Sobol′ (Owen-scrambled per
+    /// realisation as well) gets a random toroidal shift per realisation. A shift would move a jittered
     /// pattern's strata off the light's edges, and for lines along an edge
     /// the line function, seen periodically, jumps there (the light's two
     /// opposite edges carry different line integrals): jittered lines would
     /// be capped at `N⁻²` (what `--shift random` shows).
     ///
     /// # Errors
-    /// A sample count the sampler does not support, or `--shift none` with
-    /// Sobol′.
+    /// A sample count the sampler does not support.
     pub fn new(est: &DlEstimator, n: usize, shift: Option<ShiftMode>) -> Result<Self, String> {
         let s = est.sampler.pattern();
-        let shift = scene_shift(est.sampler, shift)?;
+        let shift = scene_shift(est.sampler, shift);
         let err = |e: String| format!("{} with N = {n}: {e}", est.label());
         // Multi-jittered and CMJ exist only in 2D: lines take the u
         // coordinates, whose projection is stratified into N strata.
