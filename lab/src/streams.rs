@@ -124,6 +124,21 @@ impl Stream {
     }
 }
 
+/// The row index whose stream each of `rows` draws: its own, except that a
+/// row whose `f64_twin` (the same row on the `f64` path, e.g. with its
+/// `simd` flag cleared) is also in the list draws the twin's, so that the
+/// two differ by the `f32` rounding alone.
+#[must_use]
+pub fn stream_rows<T: Copy + PartialEq>(rows: &[T], f64_twin: impl Fn(T) -> T) -> Vec<usize> {
+    rows.iter()
+        .enumerate()
+        .map(|(e, &r)| {
+            let t = f64_twin(r);
+            rows.iter().position(|&o| o == t).unwrap_or(e)
+        })
+        .collect()
+}
+
 /// The realisation seeds of one stream in a run: `at(r)` is
 /// [`Stream::realisation`] without deriving the stream's own path again.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -146,6 +161,14 @@ impl Realisations {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn simd_rows_draw_their_twins_stream() {
+        // (value, simd): rows 1 and 3 are the f32 twins of rows 0 and 2;
+        // row 4 has no f64 twin in the list.
+        let rows = [(1, false), (1, true), (2, false), (2, true), (3, true)];
+        assert_eq!(stream_rows(&rows, |(v, _)| (v, false)), [0, 0, 2, 2, 4]);
+    }
 
     #[test]
     fn realisations_are_the_seven_component_path() {

@@ -264,7 +264,8 @@ fn points_and_beams_are_unbiased() {
 }
 
 /// `--shift` is honoured by the caustic study (it was silently ignored):
-/// recorded in its configuration; `--shift none` runs Sobol′ unshifted.
+/// `--shift random` moves the rows and is recorded in the configuration;
+/// `--shift none` runs Sobol′ unshifted.
 #[test]
 fn shift_is_honoured() {
     let dir = TempDir::new("caustic-shift");
@@ -276,6 +277,22 @@ fn shift_is_honoured() {
         &["--shift", "random", "--samplers", "random,jittered"],
     );
     ok(&o, "--shift random");
+    // The shift moves the estimates (it was recorded and then ignored).
+    ok(
+        &run(&dir, 2, "d", "2", &["--samplers", "random,jittered"]),
+        "default shift",
+    );
+    let (a, b) = (
+        rows(&dir.path().join("d/study/rows.csv")),
+        rows(&dir.path().join("s/study/rows.csv")),
+    );
+    assert_eq!(a.len(), b.len());
+    let moved = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert!(
+        moved + 1 >= a.len(),
+        "only {moved} of {} rows moved",
+        a.len()
+    );
     let m: serde_json::Value =
         serde_json::from_slice(&fs::read(dir.path().join("s/study.state/manifest.json")).unwrap())
             .unwrap();

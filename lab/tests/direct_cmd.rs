@@ -508,6 +508,27 @@ fn shift_is_honoured() {
         "--shift none with sobol",
     );
     assert_eq!(config("none"), "none");
+    // By default Sobol' is shifted: the unshifted rows differ.
+    ok(
+        &study("sobol", &["--samplers", "sobol"]),
+        "default shift, sobol",
+    );
+    // (The study's base arguments add the jittered rows, unshifted in both.)
+    let sobol = |out: &str| -> Vec<String> {
+        rows(out)
+            .into_iter()
+            .filter(|r| r.contains(",sobol,"))
+            .collect()
+    };
+    let (a, b) = (sobol("sobol"), sobol("none"));
+    assert_eq!(a.len(), 12);
+    let moved = a.iter().zip(&b).filter(|(x, y)| x != y).count();
+    assert_eq!(
+        moved,
+        a.len(),
+        "only {moved} of {} sobol rows moved",
+        a.len()
+    );
     let (_, header, rows) = csv_table(&dir.path().join("none/pixels/rows.csv"));
     let var = header.iter().position(|h| h == "variance").unwrap();
     for r in &rows {

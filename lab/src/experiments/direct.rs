@@ -56,7 +56,7 @@ use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
-use crate::streams::{Part, Realisations, Stream};
+use crate::streams::{stream_rows, Part, Realisations, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene-direct";
@@ -114,7 +114,7 @@ struct Surface {
     face: Parallelogram,
     normal: [f64; 3],
     albedo: [f64; 3],
-    solid: Option<usize>,
+    solid: usize,
 }
 
 /// An occluder: a box (convex: only its faces turned towards a point can
@@ -186,7 +186,7 @@ impl DlWorld {
                 face,
                 normal: unit(face.normal()),
                 albedo: q.albedo,
-                solid: Some(occluders.len()),
+                solid: occluders.len(),
             });
             occluders.push(Occluder {
                 faces: vec![(face, None)],
@@ -201,7 +201,7 @@ impl DlWorld {
                     face,
                     normal,
                     albedo: b.albedo,
-                    solid: Some(occluders.len()),
+                    solid: occluders.len(),
                 });
                 faces.push((face, Some(normal)));
             }
@@ -270,9 +270,12 @@ impl DlWorld {
         } else {
             s.normal
         };
-        Some(Seen::Surface(Box::new(
-            self.surface_point(x, n, s.albedo, s.solid),
-        )))
+        Some(Seen::Surface(Box::new(self.surface_point(
+            x,
+            n,
+            s.albedo,
+            Some(s.solid),
+        ))))
     }
 
     /// The shading data of surface point `x` with normal `n` on occluder
@@ -554,8 +557,8 @@ impl Pattern {
     /// [`scene_shift`] says for `shift` (`--shift`). By default patterns
     /// that are random by construction (random, jittered, multi-jittered,
     /// CMJ) are used as they are, and Sobol′ (Owen-scrambled per
-    /// realisation as well) gets a random toroidal shift per realisation. A shift would move a jittered
-    /// pattern's strata off the light's edges, and for lines along an edge
+    /// realisation as well) gets a random toroidal shift per realisation.
+    /// A shift would move a jittered pattern's strata off the light's edges, and for lines along an edge
     /// the line function, seen periodically, jumps there (the light's two
     /// opposite edges carry different line integrals): jittered lines would
     /// be capped at `N⁻²` (what `--shift random` shows).
@@ -798,23 +801,7 @@ impl Experiment for Images {
             seconds: vec![0.0; ne * nl],
         };
         let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
-        // An f32 SIMD row draws its f64 twin's numbers, so that their
-        // difference is the f32 rounding alone.
-        let twin: Vec<usize> = cfg
-            .estimators
-            .iter()
-            .enumerate()
-            .map(|(e, est)| {
-                let f64_twin = DlEstimator {
-                    simd: false,
-                    ..*est
-                };
-                cfg.estimators
-                    .iter()
-                    .position(|o| *o == f64_twin)
-                    .unwrap_or(e)
-            })
-            .collect();
+        let twin = stream_rows(&cfg.estimators, |e| DlEstimator { simd: false, ..e });
         for y in y0..y1 {
             for x in 0..cfg.width {
                 let p = ((y - y0) * cfg.width + x) as usize;

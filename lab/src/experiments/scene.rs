@@ -53,7 +53,7 @@ use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::scene::{self, CentrePdf, Primitive, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
-use crate::streams::{Part, Realisations, Stream};
+use crate::streams::{stream_rows, Part, Realisations, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene";
@@ -252,23 +252,7 @@ impl Experiment for Images {
         };
         let mut scratch = self.world.scratch();
         let mut uv = Vec::new();
-        // An f32 SIMD row draws its f64 twin's numbers, so that their
-        // difference is the f32 rounding alone.
-        let twin: Vec<usize> = cfg
-            .estimators
-            .iter()
-            .enumerate()
-            .map(|(e, spec)| {
-                let f64_twin = EstimatorSpec {
-                    simd: false,
-                    ..*spec
-                };
-                cfg.estimators
-                    .iter()
-                    .position(|o| *o == f64_twin)
-                    .unwrap_or(e)
-            })
-            .collect();
+        let twin = stream_rows(&cfg.estimators, |e| EstimatorSpec { simd: false, ..e });
         for y in y0..y1 {
             for x in 0..cfg.width {
                 let p = ((y - y0) * cfg.width + x) as usize;
@@ -817,7 +801,8 @@ impl PixelStudy {
         })
     }
 
-    fn spectrum_cell(&self, job: SpectrumJob, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+    fn spectrum_cell(&self, j: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+        let job = self.jobs[j];
         let cfg = &self.config;
         let theory = self
             .theory
@@ -834,12 +819,7 @@ impl PixelStudy {
             sampler: job.sampler,
             simd: false,
         };
-        let (x, y) = cfg.pixel;
-        let job_index = self.jobs.iter().position(|j| *j == job).unwrap_or(0);
-        let seed = stream(Part::Spectrum)
-            .pixel(x, y, cfg.width)
-            .row(job_index, job.n)
-            .seed(cfg.seed);
+        let seed = self.spectrum_stream(j).seed(cfg.seed);
         let chunks = cfg.spectrum_realisations.div_ceil(CHUNK) as usize;
         let parts = ctx.map_ordered(chunks, |c| {
             let r0 = c as u64 * CHUNK;
@@ -892,21 +872,23 @@ impl PixelStudy {
         }
     }
 
+    /// The stream of spectral prediction job `j`.
+    fn spectrum_stream(&self, j: usize) -> Stream {
+        let (x, y) = self.config.pixel;
+        stream(Part::Spectrum)
+            .pixel(x, y, self.config.width)
+            .row(j, self.jobs[j].n)
+    }
+
     /// The streams of the measured cells (the reference, then each row
     /// and `N`) and of the spectral predictions.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        let (x, y) = self.config.pixel;
         let measured = self.config.rows.len() * self.config.ns.len();
-        let mut v: Vec<Stream> = (0..=measured).map(|i| self.stream(i)).collect();
-        for (j, job) in self.jobs.iter().enumerate() {
-            v.push(
-                stream(Part::Spectrum)
-                    .pixel(x, y, self.config.width)
-                    .row(j, job.n),
-            );
-        }
-        v
+        (0..=measured)
+            .map(|i| self.stream(i))
+            .chain((0..self.jobs.len()).map(|j| self.spectrum_stream(j)))
+            .collect()
     }
 
     fn row_n(&self, index: usize) -> (EstimatorSpec, usize) {
@@ -978,7 +960,7 @@ impl Experiment for PixelStudy {
         }
         let measured = cfg.rows.len() * cfg.ns.len();
         if index > measured {
-            return self.spectrum_cell(self.jobs[index - measured - 1], ctx);
+            return self.spectrum_cell(index - measured - 1, ctx);
         }
         let (spec, n) = self.row_n(index);
         let seed = Realisations::of(&self.stream(index), cfg.seed);
@@ -1125,7 +1107,8 @@ pub struct SlopeRow {
     pub last_slope_se: f64,
     /// [`verdict`] of the row: `consistent`, `log factor`,
     /// `pre-asymptotic`, `not consistent`, `infinite variance` (the theory
-    /// predicts no rate) or `failed` (a cell has no statistics).
+    /// predicts no rate), `no fit` (fewer than two usable points) or
+    /// `failed` (a cell has no statistics).
     pub verdict: String,
     /// The failed cells' errors (empty when none failed).
     pub error: String,
@@ -1150,8 +1133,6 @@ pub fn verdict(
 ) -> &'static str {
     if theory.is_nan() {
         "infinite variance"
-    } else if !slope.is_finite() {
-        "no fit"
     } else if theory >= lo - SLOPE_SLACK && theory <= hi + SLOPE_SLACK {
         "consistent"
     } else if log && slope > theory && slope < theory + 0.5 {
@@ -1221,7 +1202,6 @@ pub fn complete_pixel(
         }
     }
     let mut rows = Vec::new();
-    let mut failed = Vec::new();
     for (i, c) in cells.iter().enumerate().take(measured + 1).skip(1) {
         let (spec, n) = exp.row_n(i);
         // A failed cell, or one whose stored statistics do not decode,
@@ -1233,7 +1213,6 @@ pub fn complete_pixel(
                     let why = decoded.err().unwrap_or_default();
                     format!("{} at N = {n}: {why}", spec.label())
                 });
-                failed.push(e.clone());
                 rows.push(PixelRow {
                     estimator: spec.label(),
                     primitive: spec.primitive,
@@ -1298,7 +1277,6 @@ pub fn complete_pixel(
             .last()
             .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
         // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b);
-        // NaN for a row whose fit does not converge.
         // NaN for a row whose fit does not converge, and for an estimator
         // of infinite variance (no rate to extrapolate).
         let seconds_to_1pct = if th.is_nan() {
@@ -1318,59 +1296,44 @@ pub fn complete_pixel(
         } else {
             (f64::NAN, f64::NAN)
         };
-        if !errors.is_empty() || fit.is_none() {
-            slopes.push(SlopeRow {
-                estimator: spec.label(),
-                primitive: spec.primitive,
-                length: spec.length,
-                pdf: spec.pdf,
-                sampler: spec.sampler,
-                n_min: cfg.ns.iter().copied().min().unwrap_or(0),
-                n_max,
-                slope: f64::NAN,
-                ci95_low: f64::NAN,
-                ci95_high: f64::NAN,
-                theory: th,
-                theory_log_power: lp,
-                theory_note: note.clone(),
-                seconds_to_1pct: f64::NAN,
-                fit_chi2_dof: f64::NAN,
-                last_slope,
-                last_slope_se,
-                verdict: if errors.is_empty() {
-                    "no fit"
-                } else {
-                    "failed"
-                }
-                .into(),
-                error: errors.join("; "),
-            });
-            var_max.push(rs[nn - 1].variance);
-        }
+        let nan3 = (f64::NAN, f64::NAN, f64::NAN);
+        let (slope, lo, hi) = fit.map_or(nan3, |f| {
+            (
+                f.slope,
+                f.slope - 1.96 * f.slope_se,
+                f.slope + 1.96 * f.slope_se,
+            )
+        });
+        slopes.push(SlopeRow {
+            estimator: spec.label(),
+            primitive: spec.primitive,
+            length: spec.length,
+            pdf: spec.pdf,
+            sampler: spec.sampler,
+            n_min: cfg.ns.iter().copied().min().unwrap_or(0),
+            n_max,
+            slope,
+            ci95_low: lo,
+            ci95_high: hi,
+            theory: th,
+            theory_log_power: lp,
+            theory_note: note,
+            seconds_to_1pct,
+            fit_chi2_dof: fit.map_or(f64::NAN, |f| f.chi2_dof),
+            last_slope,
+            last_slope_se,
+            verdict: if !errors.is_empty() {
+                "failed"
+            } else if fit.is_none() {
+                "no fit"
+            } else {
+                verdict(th, lp > 0, (slope, lo, hi), (last_slope, last_slope_se))
+            }
+            .into(),
+            error: errors.join("; "),
+        });
+        var_max.push(rs[nn - 1].variance);
         if let Some(f) = fit {
-            let (lo, hi) = (f.slope - 1.96 * f.slope_se, f.slope + 1.96 * f.slope_se);
-            slopes.push(SlopeRow {
-                estimator: spec.label(),
-                primitive: spec.primitive,
-                length: spec.length,
-                pdf: spec.pdf,
-                sampler: spec.sampler,
-                n_min: cfg.ns.iter().copied().min().unwrap_or(0),
-                n_max,
-                slope: f.slope,
-                ci95_low: lo,
-                ci95_high: hi,
-                theory: th,
-                theory_log_power: lp,
-                theory_note: note,
-                seconds_to_1pct,
-                fit_chi2_dof: f.chi2_dof,
-                last_slope,
-                last_slope_se,
-                verdict: verdict(th, lp > 0, (f.slope, lo, hi), (last_slope, last_slope_se)).into(),
-                error: String::new(),
-            });
-            var_max.push(rs[nn - 1].variance);
             if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
                 let (x0, x1) = (data[0].0, n_max as f64);
                 series.push(Series {
@@ -1513,6 +1476,11 @@ pub fn complete_pixel(
         }
         crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
     }
+    let failed: Vec<&str> = rows
+        .iter()
+        .filter(|r| !r.error.is_empty())
+        .map(|r| r.error.as_str())
+        .collect();
     if failed.is_empty() {
         Ok(())
     } else {

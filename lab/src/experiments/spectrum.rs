@@ -1004,7 +1004,7 @@ pub fn complete(
         let names: Vec<String> = paths.iter().map(|p| p.display().to_string()).collect();
         crate::out!(
             "wrote {} and {}{}",
-            names[..names.len() - 1].join(", "),
+            names.join(", "),
             json_path.display(),
             if s.image.is_none() {
                 " (no PNG: the spectrum is 1D)"

@@ -166,12 +166,10 @@ impl FileGroup {
         let target = target.into();
         let bytes = crate::io::table::csv(rows)?;
         self.add_bytes(&target, &bytes)?;
-        if !notes.is_empty() {
-            let name = target
-                .file_name()
-                .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
-            self.notes.insert(name, notes.to_vec());
-        }
+        let name = target
+            .file_name()
+            .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+        self.note(&name, notes);
         Ok(())
     }
 
