@@ -36,7 +36,6 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use linesample::stats::RunningStats;
 use linesample::Seed;
 use linesample_scene::caustic::{Caustic, PhotonPath};
 use rayon::prelude::*;
@@ -44,16 +43,17 @@ use serde::{Deserialize, Serialize};
 
 use crate::caustic_scene::{self, CausticScene};
 use crate::experiments::scene::rgb_png;
+use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
-use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
+use crate::figures::multi::{self, Multi};
+use crate::fit::fit_sci;
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{EffectKind, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
-use crate::streams::{Part, Realisations, Stream};
+use crate::streams::{Part, Stream};
 
 /// The study's runner kind.
 pub const KIND: &str = "scene-caustic";
@@ -264,20 +264,15 @@ pub struct StudyConfig {
     pub shift: Option<ShiftMode>,
 }
 
-/// One cell's statistics.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct StudyCell {
-    pub count: u64,
-    pub moments: [f64; 4],
-    /// Seconds per estimate (one thread).
-    pub seconds: f64,
-}
+/// One cell's statistics ([`study::StudyCell`]).
+pub type StudyCell = study::StudyCell;
 
 /// The study experiment.
 pub struct Study {
     config: StudyConfig,
     dims: usize,
     world: World,
+    layout: study::Layout,
     cells: Vec<CellInfo>,
 }
 
@@ -293,10 +288,6 @@ impl Study {
         if config.ns.is_empty() || config.rows.is_empty() {
             return Err("the study needs at least one N and one estimator".into());
         }
-        let mut cells = vec![CellInfo {
-            label: "reference".into(),
-            work: config.reference_realisations,
-        }];
         Pattern::new(
             SceneSampler::Jittered,
             Estimator::Beams.sample_dims(dims),
@@ -308,42 +299,81 @@ impl Study {
             for &n in &config.ns {
                 Pattern::new(*sampler, est.sample_dims(dims), n, config.shift)
                     .map_err(|e| format!("--pixel-n: {} {e}", est.name()))?;
-                cells.push(CellInfo {
-                    label: format!("{} {} N={n}", est.name(), sampler.name()),
-                    work: config.realisations,
-                });
             }
         }
+        let layout = study::Layout {
+            queries: vec![study::Query {
+                label: String::new(),
+                stream: Stream::new(EffectKind::VolumetricCaustic, dims, Part::Study),
+            }],
+            rows: config
+                .rows
+                .iter()
+                .map(|(e, s)| format!("{} {}", e.name(), s.name()))
+                .collect(),
+            ns: config.ns.clone(),
+            realisations: config.realisations,
+            reference_n: config.reference_beams,
+            reference_realisations: config.reference_realisations,
+        };
+        let cells = layout.cells();
         Ok(Study {
             config,
             dims,
             world,
+            layout,
             cells,
         })
     }
-}
 
-impl Study {
     /// The stream of cell `index` (0: the reference; then row `e` at the
     /// `i`-th `N`, cell `1 + e·|ns| + i`).
     #[must_use]
     pub fn stream(&self, index: usize) -> Stream {
-        let cfg = &self.config;
-        let at = |part| Stream::new(EffectKind::VolumetricCaustic, self.dims, part);
-        if index == 0 {
-            at(Part::Reference)
-        } else {
-            let (e, i) = ((index - 1) / cfg.ns.len(), (index - 1) % cfg.ns.len());
-            at(Part::Study).row(e, cfg.ns[i])
-        }
+        self.layout.stream(index)
     }
 
     /// The streams of every cell, in cell order.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        (0..=self.config.rows.len() * self.config.ns.len())
-            .map(|i| self.stream(i))
-            .collect()
+        self.layout.streams()
+    }
+}
+
+impl study::StudyEffect for Study {
+    type Plan = (Estimator, usize, Pattern);
+    type Scratch = Vec<[f64; 3]>;
+    const CHUNK: u64 = CHUNK;
+
+    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+        // The reference (jittered beams) is never shifted.
+        let (est, sampler, shift) = match row {
+            None => (Estimator::Beams, SceneSampler::Jittered, None),
+            Some(e) => {
+                let (est, sampler) = self.config.rows[e];
+                (est, sampler, self.config.shift)
+            }
+        };
+        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n, shift)?;
+        Ok((est, n, pattern))
+    }
+
+    fn scratch(&self) -> Result<Self::Scratch, String> {
+        Ok(Vec::new())
+    }
+
+    fn estimate(
+        &self,
+        _query: usize,
+        (est, n, pattern): &Self::Plan,
+        seed: Seed,
+        x: &mut Self::Scratch,
+    ) -> Result<f64, String> {
+        if x.capacity() < *n {
+            *x = buffer::empty(*n, "samples")?;
+        }
+        pattern.fill(seed, *n, x)?;
+        Ok(self.world.estimate(*est, x))
     }
 }
 
@@ -362,38 +392,7 @@ impl Experiment for Study {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<StudyCell, String> {
-        let cfg = &self.config;
-        let seed = Realisations::of(&self.stream(index), cfg.seed);
-        let (est, sampler, n, total) = if index == 0 {
-            (
-                Estimator::Beams,
-                SceneSampler::Jittered,
-                cfg.reference_beams,
-                cfg.reference_realisations,
-            )
-        } else {
-            let (e, i) = ((index - 1) / cfg.ns.len(), (index - 1) % cfg.ns.len());
-            let (est, sampler) = cfg.rows[e];
-            (est, sampler, cfg.ns[i], cfg.realisations)
-        };
-        // The reference (jittered beams) is never shifted.
-        let shift = if index == 0 { None } else { cfg.shift };
-        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n, shift)?;
-        let (rs, seconds) = ctx.realisations(
-            total,
-            CHUNK,
-            || buffer::empty(n, "samples"),
-            |x, r| {
-                pattern.fill(seed.at(r), n, x)?;
-                Ok(self.world.estimate(est, x))
-            },
-        )?;
-        let (count, moments) = rs.parts();
-        Ok(StudyCell {
-            count,
-            moments,
-            seconds,
-        })
+        study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
 
@@ -473,6 +472,8 @@ struct Row {
     variance_se: f64,
     #[serde(serialize_with = "table::sci")]
     seconds_per_estimate: f64,
+    /// Why the cell has no statistics (empty when it has).
+    error: String,
 }
 
 /// A row of `OUT/caustics.csv`.
@@ -536,11 +537,8 @@ pub fn complete_study(
 ) -> Result<(), String> {
     let cfg = &exp.config;
     let dims = exp.dims;
-    let st = |c: &StudyCell| {
-        RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
-    };
-    let r = st(&cells[0])?;
-    let (rv, rse) = (r.mean(), r.mean_std_error());
+    let (reference, stats) = study::analyse(&exp.layout, &cells, 0)?;
+    let (rv, rse) = (reference.value, reference.se);
     let mut text = format!(
         "{dims}D caustic: reference Φ_Q = {rv:.8e} ± {rse:.1e} ({} x {} jittered beams)\n",
         cfg.reference_realisations, cfg.reference_beams
@@ -550,41 +548,32 @@ pub fn complete_study(
     let mut caustics = Vec::new();
     let mut series = Vec::new();
     let mut time_series = Vec::new();
+    let mut failed = Vec::new();
+    let nn = cfg.ns.len();
     for (e, &(est, sampler)) in cfg.rows.iter().enumerate() {
-        let mut pts = Vec::new();
-        let mut secs = Vec::new();
-        let mut zmax = 0.0f64;
-        for (i, &n) in cfg.ns.iter().enumerate() {
-            let c = &cells[1 + e * cfg.ns.len() + i];
-            let s = st(c)?;
-            let z = (s.mean() - rv) / s.mean_std_error().hypot(rse);
-            zmax = zmax.max(z.abs());
+        let rs = &stats[e * nn..(e + 1) * nn];
+        for r in rs {
             rows.push(Row {
                 estimator: est.name(),
                 sampler: sampler.name(),
-                n,
-                realisations: s.count(),
-                mean: s.mean(),
-                bias_z: z,
-                variance: s.variance(),
-                variance_se: s.variance_std_error(),
-                seconds_per_estimate: c.seconds,
+                n: r.n,
+                realisations: r.realisations,
+                mean: r.mean,
+                bias_z: r.bias_z,
+                variance: r.variance,
+                variance_se: r.variance_se,
+                seconds_per_estimate: r.seconds,
+                error: r.error.clone().unwrap_or_default(),
             });
-            pts.push((n as f64, s.variance(), s.variance_std_error()));
-            secs.push(c.seconds);
+            failed.extend(r.error.clone());
         }
         // The headline fit: the largest TAIL values of N, where the strata
         // are finer than the features of Q's preimage (the smaller N show
         // the pre-asymptotic approach; `slope_all` fits every N).
-        let m = pts.len();
-        let tail = &pts[m.saturating_sub(TAIL)..];
-        let fit = fit_loglog(tail);
-        let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
-        let slope_all = fit_loglog(&pts).map_or(f64::NAN, |f| f.slope);
-        let last = last_slope(&pts);
-        let n1 = n_to_target(fit.as_ref(), (0.01 * rv).powi(2));
-        let t1 = n1 * secs[m - 1] / pts[m - 1].0;
-        let n_mid = (tail.iter().map(|p| p.0.ln()).sum::<f64>() / tail.len() as f64).exp();
+        let fit = study::fit_row(rs, Some(TAIL), rv, false);
+        let (slope, lo, hi) = fit.interval();
+        let tail = &rs[nn.saturating_sub(TAIL)..];
+        let n_mid = (tail.iter().map(|r| (r.n as f64).ln()).sum::<f64>() / tail.len() as f64).exp();
         let exp_slope = expected(dims, est, sampler).map_or(f64::NAN, |x| x.0);
         let (exp_lo, exp_hi) = effective(dims, est, sampler, n_mid).unwrap_or((f64::NAN, f64::NAN));
         let exp_text = if exp_lo == exp_hi {
@@ -595,60 +584,38 @@ pub fn complete_study(
         let label = format!("{} {}", est.name(), sampler.name());
         let _ = writeln!(
             text,
-            "  {label:<18} slope {slope:+.2} [{:+.2}, {:+.2}] (expected {exp_text})  \
-             all N {slope_all:+.2}  max |z| {zmax:.2}  1 %: N ≈ {}, {} s",
-            slope - 1.96 * se,
-            slope + 1.96 * se,
-            fit_sci(n1, 3),
-            fit_sci(t1, 2),
+            "  {label:<18} slope {slope:+.2} [{lo:+.2}, {hi:+.2}] (expected {exp_text})  \
+             all N {:+.2}  max |z| {:.2}  1 %: N ≈ {}, {} s",
+            fit.slope_all,
+            fit.max_abs_z,
+            fit_sci(fit.n_to_1pct, 3),
+            fit_sci(fit.seconds_to_1pct, 2),
         );
         slopes.push(SlopeRow {
             dims,
             estimator: est.name(),
             sampler: sampler.name(),
             slope,
-            slope_ci_low: slope - 1.96 * se,
-            slope_ci_high: slope + 1.96 * se,
+            slope_ci_low: lo,
+            slope_ci_high: hi,
             expected: exp_slope,
             expected_with_log: exp_hi,
-            slope_all,
-            last_slope: last,
-            max_abs_bias_z: zmax,
-            n_to_1pct: n1,
-            seconds_to_1pct: t1,
+            slope_all: fit.slope_all,
+            last_slope: fit.last_slope,
+            max_abs_bias_z: fit.max_abs_z,
+            n_to_1pct: fit.n_to_1pct,
+            seconds_to_1pct: fit.seconds_to_1pct,
         });
         caustics.push(CausticsRow {
             dims,
             estimator: est.name().into(),
             sampler: sampler.name().into(),
             slope,
-            slope_ci_low: slope - 1.96 * se,
-            slope_ci_high: slope + 1.96 * se,
+            slope_ci_low: lo,
+            slope_ci_high: hi,
         });
-        // The fitted line over the range it was fitted on.
-        let (x0, x1) = (tail[0].0, pts[m - 1].0);
-        time_series.push(Series {
-            label: label.clone(),
-            points: pts
-                .iter()
-                .zip(&secs)
-                .map(|(&(_, v, vse), &t)| (t, v.sqrt() / rv, 0.5 * vse / v.sqrt() / rv))
-                .collect(),
-            joined: true,
-            ..Series::default()
-        });
-        series.push(Series {
-            label,
-            points: pts,
-            fit: fit.map(|f| Line {
-                a: f.intercept,
-                slope: f.slope,
-                log_power: 0,
-                x0,
-                x1,
-            }),
-            ..Series::default()
-        });
+        time_series.push(study::time_series(label.clone(), rs, rv));
+        series.push(study::convergence_series(label, rs, &fit));
     }
     let mut group = FileGroup::new();
     let title = format!("{dims}D volumetric caustic: variance vs N");
@@ -696,7 +663,7 @@ pub fn complete_study(
         crate::out!("{}", text.trim_end());
         crate::out!("wrote {}", parent.join("caustics.csv").display());
     }
-    Ok(())
+    study::no_failures("study", &failed, &dir.join("rows.csv"))
 }
 
 fn reproduce(cfg: &StudyConfig) -> String {

@@ -38,25 +38,26 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
-use linesample::stats::RunningStats;
 use linesample::Seed;
 use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
 use linesample_scene::direct_light_f32::DirectLight32;
 use serde::{Deserialize, Serialize};
 
-use crate::experiments::scene::{rgb_png, SceneSource};
+use crate::experiments::images;
+use crate::experiments::images::rgb_png;
+use crate::experiments::scene::SceneSource;
+use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
-use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::{fit_loglog, fit_sci, last_slope, n_to_target};
-use crate::io::{self, buffer, table, FileGroup};
+use crate::figures::multi::{self, Multi};
+use crate::fit::fit_sci;
+use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
-use crate::streams::{stream_rows, Part, Realisations, Stream};
+use crate::streams::{stream_rows, Part, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene-direct";
@@ -708,28 +709,16 @@ pub struct ImagesConfig {
     pub shift: Option<ShiftMode>,
 }
 
-/// One block of rows.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ImagesCell {
-    /// Reference `E` per pixel (NaN: nothing or the light).
-    pub reference: Vec<f32>,
-    /// Its standard error.
-    pub reference_se: Vec<f32>,
-    /// The fraction of the light hidden by occluders
-    /// ([`DlWorld::hidden_fraction`] with 64 lines).
-    pub hidden: Vec<f32>,
-    /// `images[e·L + l]`: estimator `e` at ladder `N_l`.
-    pub images: Vec<Vec<f32>>,
-    /// Per-pixel variance of each estimator at `N = n`.
-    pub variance: Vec<Vec<f32>>,
-    /// Seconds spent on `images[e·L + l]`.
-    pub seconds: Vec<f64>,
-}
+/// One block of rows ([`images::ImagesCell`]; its `extra` is the fraction
+/// of the light hidden by occluders, [`DlWorld::hidden_fraction`] with 64
+/// lines).
+pub type ImagesCell = images::ImagesCell;
 
 /// The image experiment.
 pub struct Images {
     config: ImagesConfig,
     world: DlWorld,
+    twin: Vec<usize>,
     cells: Vec<CellInfo>,
 }
 
@@ -740,16 +729,81 @@ impl Images {
     /// A scene that no longer parses, or geometry the kernel refuses.
     pub fn new(config: ImagesConfig) -> Result<Self, String> {
         let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
-        let cells = crate::experiments::scene::row_blocks(
-            config.width,
-            config.height,
-            config.rows_per_cell,
-        );
+        let cells = images::row_blocks(config.width, config.height, config.rows_per_cell);
+        let twin = stream_rows(&config.estimators, |e| DlEstimator { simd: false, ..e });
         Ok(Images {
             config,
             world,
+            twin,
             cells,
         })
+    }
+
+    fn grid(&self) -> images::Grid<'_> {
+        let c = &self.config;
+        images::Grid {
+            width: c.width,
+            height: c.height,
+            seed: c.seed,
+            n: c.n,
+            ladder: &c.ladder,
+            variance_realisations: c.variance_realisations,
+            reference_lines: c.reference_lines,
+            reference_realisations: c.reference_realisations,
+            rows_per_cell: c.rows_per_cell,
+        }
+    }
+}
+
+impl images::ImageEffect for Images {
+    type Pixel = DlPixel;
+    type Plan = (DlEstimator, Pattern);
+    type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
+
+    fn stream(&self, x: u32, y: u32) -> Stream {
+        stream(Part::Image).pixel(x, y, self.config.width)
+    }
+
+    fn pixel(&self, x: u32, y: u32) -> Option<DlPixel> {
+        match self.world.pixel(x, y) {
+            Some(Seen::Surface(px)) => Some(*px),
+            _ => None,
+        }
+    }
+
+    fn estimators(&self) -> usize {
+        self.config.estimators.len()
+    }
+
+    fn twin(&self, e: usize) -> usize {
+        self.twin[e]
+    }
+
+    fn plan(&self, e: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+        // The reference is never shifted (jittered lines along an edge).
+        let (est, shift) = match e {
+            None => (REFERENCE, None),
+            Some(e) => (self.config.estimators[e], self.config.shift),
+        };
+        Ok((est, Pattern::new(&est, n, shift)?))
+    }
+
+    fn scratch(&self) -> Self::Scratch {
+        (Vec::new(), Vec::new(), Vec::new())
+    }
+
+    fn estimate(
+        &self,
+        px: &DlPixel,
+        (est, pattern): &Self::Plan,
+        seed: Seed,
+        (vals, one, scratch): &mut Self::Scratch,
+    ) -> Result<f64, String> {
+        one_estimate(&self.world, px, est, pattern, seed, vals, one, scratch)
+    }
+
+    fn extra(&self, px: &DlPixel) -> Result<Option<f32>, String> {
+        Ok(Some(self.world.hidden_fraction(px, 64)? as f32))
     }
 }
 
@@ -768,110 +822,7 @@ impl Experiment for Images {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
-        let cfg = &self.config;
-        let rows = cfg.rows_per_cell.max(1);
-        let y0 = index as u32 * rows;
-        let y1 = (y0 + rows).min(cfg.height);
-        let count = ((y1 - y0) * cfg.width) as usize;
-        let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
-        // The reference is never shifted (jittered lines along an edge).
-        let reference = Pattern::new(&REFERENCE, cfg.reference_lines, None)?;
-        let mut patterns = Vec::with_capacity(ne * nl);
-        for e in &cfg.estimators {
-            for &n in &cfg.ladder {
-                patterns.push(Pattern::new(e, n, cfg.shift)?);
-            }
-        }
-        let at_n = cfg
-            .ladder
-            .iter()
-            .position(|&n| n == cfg.n)
-            .ok_or("internal error: --n is not on the ladder")?;
-        let nan = f32::NAN;
-        let mut cell = ImagesCell {
-            reference: buffer::filled(count, nan, "the reference image")?,
-            reference_se: buffer::filled(count, nan, "the reference SE image")?,
-            hidden: buffer::filled(count, nan, "the hidden-fraction image")?,
-            images: (0..ne * nl)
-                .map(|_| buffer::filled(count, nan, "an image"))
-                .collect::<Result<_, _>>()?,
-            variance: (0..ne)
-                .map(|_| buffer::filled(count, nan, "a variance image"))
-                .collect::<Result<_, _>>()?,
-            seconds: vec![0.0; ne * nl],
-        };
-        let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
-        let twin = stream_rows(&cfg.estimators, |e| DlEstimator { simd: false, ..e });
-        for y in y0..y1 {
-            for x in 0..cfg.width {
-                let p = ((y - y0) * cfg.width + x) as usize;
-                let Some(Seen::Surface(px)) = self.world.pixel(x, y) else {
-                    continue;
-                };
-                let w = &self.world;
-                let mut rs = RunningStats::new();
-                let base = Realisations::of(
-                    &stream(Part::ImageReference).pixel(x, y, cfg.width),
-                    cfg.seed,
-                );
-                for r in 0..cfg.reference_realisations {
-                    rs.push(one_estimate(
-                        w,
-                        &px,
-                        &REFERENCE,
-                        &reference,
-                        base.at(r),
-                        &mut vals,
-                        &mut one,
-                        &mut scratch,
-                    )?);
-                }
-                cell.reference[p] = rs.mean() as f32;
-                cell.reference_se[p] = rs.mean_std_error() as f32;
-                cell.hidden[p] = w.hidden_fraction(&px, 64)? as f32;
-                for (e, est) in cfg.estimators.iter().enumerate() {
-                    for (l, &n) in cfg.ladder.iter().enumerate() {
-                        let k = e * nl + l;
-                        let seed = Realisations::of(
-                            &stream(Part::Image).pixel(x, y, cfg.width).row(twin[e], n),
-                            cfg.seed,
-                        );
-                        let t = Instant::now();
-                        let v = one_estimate(
-                            w,
-                            &px,
-                            est,
-                            &patterns[k],
-                            seed.at(0),
-                            &mut vals,
-                            &mut one,
-                            &mut scratch,
-                        )?;
-                        cell.seconds[k] += t.elapsed().as_secs_f64();
-                        cell.images[k][p] = v as f32;
-                        if l == at_n {
-                            let mut vs = RunningStats::new();
-                            vs.push(v);
-                            for r in 1..cfg.variance_realisations {
-                                vs.push(one_estimate(
-                                    w,
-                                    &px,
-                                    est,
-                                    &patterns[k],
-                                    seed.at(r),
-                                    &mut vals,
-                                    &mut one,
-                                    &mut scratch,
-                                )?);
-                            }
-                            cell.variance[e][p] = vs.variance() as f32;
-                        }
-                    }
-                }
-            }
-            ctx.advance(u64::from(cfg.width));
-        }
-        Ok(cell)
+        images::run_cell(self, &self.grid(), index, ctx)
     }
 }
 
@@ -990,23 +941,6 @@ pub fn choose(v1: &[f32], v2: &[f32], hidden: &[f32], width: u32) -> Option<Chos
     })
 }
 
-/// An `images.csv` row.
-#[derive(Serialize)]
-struct ImageRow {
-    estimator: String,
-    n: usize,
-    #[serde(serialize_with = "table::sci")]
-    seconds: f64,
-    #[serde(serialize_with = "table::sci")]
-    seconds_per_sample: f64,
-    #[serde(serialize_with = "table::sci")]
-    mse: f64,
-    #[serde(serialize_with = "table::sci")]
-    mean_variance: f64,
-    equal_samples: bool,
-    equal_time: bool,
-}
-
 /// Tone map: exposure, `x/(1 + x)`-free simple clamp, sRGB gamma.
 fn srgb(v: f64) -> u8 {
     let v = v.clamp(0.0, 1.0);
@@ -1047,6 +981,156 @@ fn tints(world: &DlWorld, w: u32, h: u32) -> Vec<Option<([f64; 3], bool)>> {
     v
 }
 
+/// The tone map of the images: per pixel the surface's tint times `E`,
+/// exposed so that the reference's 99th percentile luminance maps to 1,
+/// sRGB-encoded; the light white, nothing black.
+struct Tone {
+    tint: Vec<Option<([f64; 3], bool)>>,
+    exposure: f64,
+}
+
+impl Tone {
+    fn new(world: &DlWorld, w: u32, h: u32, reference: &[f32]) -> Self {
+        let tint = tints(world, w, h);
+        let lum = |t: [f64; 3], e: f64| (0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2]) * e;
+        let mut lums: Vec<f64> = tint
+            .iter()
+            .zip(reference)
+            .filter_map(|(t, &r)| match t {
+                Some((t, false)) if r.is_finite() => Some(lum(*t, f64::from(r))),
+                _ => None,
+            })
+            .collect();
+        lums.sort_by(f64::total_cmp);
+        let exposure = lums
+            .get(lums.len().saturating_sub(1) * 99 / 100)
+            .copied()
+            .filter(|&l| l > 0.0)
+            .map_or(1.0, |l| 1.0 / l);
+        Tone { tint, exposure }
+    }
+
+    fn rgb(&self, e_img: &[f32]) -> Vec<[u8; 3]> {
+        self.tint
+            .iter()
+            .zip(e_img)
+            .map(|(t, &e)| match t {
+                None => [0, 0, 0],
+                Some((_, true)) => [255, 255, 255],
+                Some((t, false)) => {
+                    let e = if e.is_finite() { f64::from(e) } else { 0.0 };
+                    core::array::from_fn(|k| srgb(t[k] * e * self.exposure))
+                }
+            })
+            .collect()
+    }
+}
+
+/// P1 and P2: the penumbra pixels whose shadow edge is closest to parallel
+/// to each light edge, when within [`PARALLEL_MAX_DEG`].
+fn parallels(world: &DlWorld, hidden: &[f32], w: u32, h: u32) -> [Option<Parallel>; 2] {
+    type Best = Option<((u32, u32), (f64, f64))>;
+    let mut best: [Best; 2] = [None, None];
+    for y in 0..h {
+        for x in 0..w {
+            let i = (y * w + x) as usize;
+            if !(hidden[i] > 0.05 && hidden[i] < 0.95) {
+                continue;
+            }
+            let Some(Seen::Surface(px)) = world.pixel(x, y) else {
+                continue;
+            };
+            let al = world.edge_alignment(&px);
+            for k in 0..2 {
+                if best[k].is_none_or(|(_, a)| al[k].0 < a.0) {
+                    best[k] = Some(((x, y), al[k]));
+                }
+            }
+        }
+    }
+    let [l1, l2] = world.light().lengths();
+    // Lines along edge 1 have offsets across edge 2, and vice versa.
+    let widths = [l2, l1];
+    core::array::from_fn(|k| {
+        best[k].and_then(|(pixel, (a, len))| {
+            (a.to_degrees() <= PARALLEL_MAX_DEG).then(|| Parallel {
+                pixel,
+                angle_deg: a.to_degrees(),
+                length: len,
+                turn_n: widths[k] / (len * a.sin()),
+            })
+        })
+    })
+}
+
+/// Which fixed orientation wins, per pixel: red where edge 1's variance is
+/// smaller, blue where edge 2's is, brightness the log ratio (full at
+/// 100×); A and B marked with white crosses.
+fn orientation_map(
+    v1: &[f32],
+    v2: &[f32],
+    chosen: Option<&Chosen>,
+    w: u32,
+    h: u32,
+) -> Vec<[u8; 3]> {
+    let mut map: Vec<[u8; 3]> = v1
+        .iter()
+        .zip(v2)
+        .map(|(&v1, &v2)| {
+            if !(v1 > 0.0 && v2 > 0.0) {
+                return [0, 0, 0];
+            }
+            let r = (f64::from(v2) / f64::from(v1)).log10() / 2.0;
+            let t = (r.abs().clamp(0.0, 1.0) * 255.0) as u8;
+            if r > 0.0 {
+                [t, t / 6, 0]
+            } else {
+                [0, t / 3, t]
+            }
+        })
+        .collect();
+    if let Some(c) = chosen {
+        for (px, py) in [c.a, c.b] {
+            for d in -4i32..=4 {
+                for (x, y) in [(px as i32 + d, py as i32), (px as i32, py as i32 + d)] {
+                    if x >= 0 && y >= 0 && (x as u32) < w && (y as u32) < h {
+                        map[(y as u32 * w + x as u32) as usize] = [255, 255, 255];
+                    }
+                }
+            }
+        }
+    }
+    map
+}
+
+/// Prints A, B, P1 and P2.
+fn print_chosen(c: &Chosen) {
+    crate::out!(
+        "pixel A {:?}: var(edge2)/var(edge1) = {:.3}; pixel B {:?}: {:.3}",
+        c.a,
+        c.ratio_a,
+        c.b,
+        c.ratio_b
+    );
+    for (name, p) in [("P1", c.parallel1), ("P2", c.parallel2)] {
+        match p {
+            Some(p) => crate::out!(
+                "pixel {name} {:?}: a shadow edge {:.3}° from the light's edge {} \
+                 (a jump for N below about {:.0})",
+                p.pixel,
+                p.angle_deg,
+                &name[1..],
+                p.turn_n
+            ),
+            None => crate::out!(
+                "no penumbra pixel has a shadow edge within {PARALLEL_MAX_DEG}° of the \
+                 light's edge {}",
+                &name[1..]
+            ),
+        }
+    }
+}
+
 /// The images' completion: PNGs, `images.csv`, `pixels.json`; returns A
 /// and B.
 ///
@@ -1060,83 +1144,27 @@ pub fn complete_images(
     quiet: bool,
 ) -> Result<Option<Chosen>, String> {
     let cfg = &exp.config;
+    let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
     let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
-    let total = (w * h) as usize;
-    let mut reference = buffer::empty(total, "the reference image")?;
-    let mut reference_se = buffer::empty(total, "the reference SE image")?;
-    let mut hidden = buffer::empty(total, "the hidden-fraction image")?;
-    let mut images: Vec<Vec<f32>> = (0..ne * nl)
-        .map(|_| buffer::empty(total, "an image"))
-        .collect::<Result<_, _>>()?;
-    let mut variance: Vec<Vec<f32>> = (0..ne)
-        .map(|_| buffer::empty(total, "a variance image"))
-        .collect::<Result<_, _>>()?;
-    let mut seconds = vec![0.0; ne * nl];
-    for c in cells {
-        reference.extend_from_slice(&c.reference);
-        reference_se.extend_from_slice(&c.reference_se);
-        hidden.extend_from_slice(&c.hidden);
-        for (a, b) in images.iter_mut().zip(&c.images) {
-            a.extend_from_slice(b);
-        }
-        for (a, b) in variance.iter_mut().zip(&c.variance) {
-            a.extend_from_slice(b);
-        }
-        for (a, b) in seconds.iter_mut().zip(&c.seconds) {
-            *a += b;
-        }
-    }
-    let tint = tints(&exp.world, w, h);
-    let at_n = cfg.ladder.iter().position(|&n| n == cfg.n).unwrap_or(0);
-    // Exposure: the reference's 99th percentile luminance maps to 1.
-    let lum = |t: [f64; 3], e: f64| (0.2126 * t[0] + 0.7152 * t[1] + 0.0722 * t[2]) * e;
-    let mut lums: Vec<f64> = tint
-        .iter()
-        .zip(&reference)
-        .filter_map(|(t, &r)| match t {
-            Some((t, false)) if r.is_finite() => Some(lum(*t, f64::from(r))),
-            _ => None,
-        })
-        .collect();
-    lums.sort_by(f64::total_cmp);
-    let exposure = lums
-        .get(lums.len().saturating_sub(1) * 99 / 100)
-        .copied()
-        .filter(|&l| l > 0.0)
-        .map_or(1.0, |l| 1.0 / l);
-    let to_rgb = |e_img: &[f32]| -> Vec<[u8; 3]> {
-        tint.iter()
-            .zip(e_img)
-            .map(|(t, &e)| match t {
-                None => [0, 0, 0],
-                Some((_, true)) => [255, 255, 255],
-                Some((t, false)) => {
-                    let e = if e.is_finite() { f64::from(e) } else { 0.0 };
-                    core::array::from_fn(|k| srgb(t[k] * e * exposure))
-                }
-            })
-            .collect()
-    };
-    let mut group = FileGroup::new();
-    let ref_rgb = to_rgb(&reference);
-    group.add_bytes(dir.join("reference.png"), &rgb_png(w, h, &ref_rgb)?)?;
-    let finite = |v: &[f32]| -> Vec<f64> {
-        v.iter()
-            .filter(|x| x.is_finite() && **x > 0.0)
-            .map(|&x| f64::from(x))
-            .collect()
-    };
+    let all = images::assemble(cells, (w * h) as usize)?;
+    let hidden = &all.extra;
+    let tone = Tone::new(&exp.world, w, h, &all.reference);
+    let at_n = grid.at_n().unwrap_or(0);
     // Variance images share one log scale (the reference's squared mean
     // level down 8 decades).
     let mean_ref = {
-        let f = finite(&reference);
+        let f: Vec<f64> = all
+            .reference
+            .iter()
+            .filter(|x| x.is_finite() && **x > 0.0)
+            .map(|&x| f64::from(x))
+            .collect();
         f.iter().sum::<f64>() / f.len().max(1) as f64
     };
-    let (vhi, vlo) = (
-        (mean_ref * mean_ref).log10(),
-        (mean_ref * mean_ref).log10() - 8.0,
-    );
+    let vhi = (mean_ref * mean_ref).log10();
+    let var_rgb =
+        |v: &[f32]| -> Vec<[u8; 3]> { v.iter().map(|&v| log_rgb(v, vhi - 8.0, vhi)).collect() };
     // Equal time: each estimator's ladder image whose time is closest (in
     // ratio) to the first line estimator's time at N = n.
     let target_e = cfg
@@ -1144,211 +1172,47 @@ pub fn complete_images(
         .iter()
         .position(|e| e.lines.is_some())
         .unwrap_or(0);
-    let target = seconds[target_e * nl + at_n];
-    let mut rows = Vec::new();
-    let mut text = String::new();
-    let _ = writeln!(
-        text,
-        "{:<34} {:>5} {:>10} {:>12} {:>11} {:>11}  note",
-        "estimator", "N", "seconds", "s/sample", "MSE", "mean var"
-    );
-    let hit: Vec<usize> = (0..total).filter(|&i| reference[i].is_finite()).collect();
-    let mut equal_time = vec![0usize; ne];
-    for (e, est) in cfg.estimators.iter().enumerate() {
-        let et = (0..nl)
-            .min_by(|&a, &b| {
-                let ra = (seconds[e * nl + a] / target).ln().abs();
-                let rb = (seconds[e * nl + b] / target).ln().abs();
-                ra.total_cmp(&rb)
-            })
-            .unwrap_or(at_n);
-        equal_time[e] = et;
-        for (l, &n) in cfg.ladder.iter().enumerate() {
-            let k = e * nl + l;
-            let img = &images[k];
-            let mse = hit
-                .iter()
-                .map(|&i| {
-                    let d = f64::from(img[i]) - f64::from(reference[i]);
-                    d * d
-                })
-                .sum::<f64>()
-                / hit.len().max(1) as f64;
-            let mean_variance = if l == at_n {
-                let f: Vec<f64> = variance[e]
-                    .iter()
-                    .filter(|x| x.is_finite())
-                    .map(|&x| f64::from(x))
-                    .collect();
-                f.iter().sum::<f64>() / f.len().max(1) as f64
-            } else {
-                f64::NAN
-            };
-            let row = ImageRow {
-                estimator: est.label(),
-                n,
-                seconds: seconds[k],
-                seconds_per_sample: seconds[k] / (hit.len().max(1) * n) as f64,
-                mse,
-                mean_variance,
-                equal_samples: l == at_n,
-                equal_time: l == et,
-            };
-            if row.equal_samples || row.equal_time {
-                let stem = est.label().replace(' ', "-");
-                let rgb = to_rgb(img);
-                if row.equal_samples {
-                    group.add_bytes(dir.join(format!("{stem}-n{n}.png")), &rgb_png(w, h, &rgb)?)?;
-                }
-                if row.equal_time {
-                    group.add_bytes(
-                        dir.join(format!("{stem}-equal-time.png")),
-                        &rgb_png(w, h, &rgb)?,
-                    )?;
-                }
-                let _ = writeln!(
-                    text,
-                    "{:<34} {:>5} {:>10.3e} {:>12.3e} {:>11.3e} {:>11}  {}",
-                    row.estimator,
-                    n,
-                    row.seconds,
-                    row.seconds_per_sample,
-                    row.mse,
-                    if row.mean_variance.is_nan() {
-                        String::new()
-                    } else {
-                        format!("{:.3e}", row.mean_variance)
-                    },
-                    match (row.equal_samples, row.equal_time) {
-                        (true, true) => "equal samples, equal time",
-                        (true, false) => "equal samples",
-                        _ => "equal time",
-                    }
-                );
-            }
-            rows.push(row);
-        }
-        let var_rgb: Vec<[u8; 3]> = variance[e].iter().map(|&v| log_rgb(v, vlo, vhi)).collect();
-        group.add_bytes(
-            dir.join(format!("{}-variance.png", est.label().replace(' ', "-"))),
-            &rgb_png(w, h, &var_rgb)?,
-        )?;
-    }
+    let et = images::equal_time(&all.seconds, ne, nl, all.seconds[target_e * nl + at_n]);
+    let labels: Vec<String> = cfg.estimators.iter().map(DlEstimator::label).collect();
+    let (rows, text) = images::image_rows(&all, &grid, &labels, at_n, &et);
+    let mut group = FileGroup::new();
+    let add_png = |group: &mut FileGroup, name: String, px: &[[u8; 3]]| {
+        group.add_bytes(dir.join(name), &rgb_png(w, h, px)?)
+    };
+    let ref_rgb = tone.rgb(&all.reference);
+    add_png(&mut group, "reference.png".into(), &ref_rgb)?;
     // The sheet: reference + every estimator; rows: equal samples, equal
     // time, variance.
-    let gap = 4u32;
-    let cols = 1 + ne as u32;
-    let (sw, sh) = (cols * w + (cols - 1) * gap, 3 * h + 2 * gap);
-    let mut sheet = vec![[255u8; 3]; (sw * sh) as usize];
-    let mut blit = |col: u32, row: u32, px: &[[u8; 3]]| {
-        for y in 0..h {
-            for x in 0..w {
-                let (sx, sy) = (col * (w + gap) + x, row * (h + gap) + y);
-                sheet[(sy * sw + sx) as usize] = px[(y * w + x) as usize];
-            }
-        }
-    };
-    blit(0, 0, &ref_rgb);
-    for e in 0..ne {
-        let col = 1 + e as u32;
-        blit(col, 0, &to_rgb(&images[e * nl + at_n]));
-        blit(col, 1, &to_rgb(&images[e * nl + equal_time[e]]));
-        let var_rgb: Vec<[u8; 3]> = variance[e].iter().map(|&v| log_rgb(v, vlo, vhi)).collect();
-        blit(col, 2, &var_rgb);
+    let mut columns = vec![vec![Some(ref_rgb)]];
+    for (e, label) in labels.iter().enumerate() {
+        let stem = label.replace(' ', "-");
+        let eq = tone.rgb(&all.images[e * nl + at_n]);
+        let tm = tone.rgb(&all.images[e * nl + et[e]]);
+        let var = var_rgb(&all.variance[e]);
+        add_png(&mut group, format!("{stem}-n{}.png", cfg.ladder[at_n]), &eq)?;
+        add_png(&mut group, format!("{stem}-equal-time.png"), &tm)?;
+        add_png(&mut group, format!("{stem}-variance.png"), &var)?;
+        columns.push(vec![Some(eq), Some(tm), Some(var)]);
     }
+    let (sw, sh, sheet) = images::sheet(w, h, &columns);
     group.add_bytes(dir.join("sheet.png"), &rgb_png(sw, sh, &sheet)?)?;
-    // Which fixed orientation wins, per pixel: red where edge1's variance
-    // is smaller, blue where edge2's is, brightness the log ratio (full at
-    // 100×); A and B marked with white crosses.
-    let e1 = cfg
-        .estimators
-        .iter()
-        .position(|e| e.lines == Some(Orientation::Edge1));
-    let e2 = cfg
-        .estimators
-        .iter()
-        .position(|e| e.lines == Some(Orientation::Edge2));
-    let mut chosen = match (e1, e2) {
-        (Some(a), Some(b)) => choose(&variance[a], &variance[b], &hidden, w),
-        _ => None,
-    };
-    if let Some(c) = chosen.as_mut() {
-        type Best = Option<((u32, u32), (f64, f64))>;
-        let mut best: [Best; 2] = [None, None];
-        for y in 0..h {
-            for x in 0..w {
-                let i = (y * w + x) as usize;
-                if !(hidden[i] > 0.05 && hidden[i] < 0.95) {
-                    continue;
-                }
-                let Some(Seen::Surface(px)) = exp.world.pixel(x, y) else {
-                    continue;
-                };
-                let al = exp.world.edge_alignment(&px);
-                for k in 0..2 {
-                    if best[k].is_none_or(|(_, a)| al[k].0 < a.0) {
-                        best[k] = Some(((x, y), al[k]));
-                    }
-                }
-            }
-        }
-        let [l1, l2] = exp.world.light().lengths();
-        // Lines along edge 1 have offsets across edge 2, and vice versa.
-        let widths = [l2, l1];
-        let par = |k: usize| {
-            best[k].and_then(|(pixel, (a, len))| {
-                (a.to_degrees() <= PARALLEL_MAX_DEG).then(|| Parallel {
-                    pixel,
-                    angle_deg: a.to_degrees(),
-                    length: len,
-                    turn_n: widths[k] / (len * a.sin()),
-                })
-            })
-        };
-        c.parallel1 = par(0);
-        c.parallel2 = par(1);
-    }
+    let fixed = |o: Orientation| cfg.estimators.iter().position(|e| e.lines == Some(o));
+    let (e1, e2) = (fixed(Orientation::Edge1), fixed(Orientation::Edge2));
+    let mut chosen = None;
     if let (Some(a), Some(b)) = (e1, e2) {
-        let mut map: Vec<[u8; 3]> = variance[a]
-            .iter()
-            .zip(&variance[b])
-            .map(|(&v1, &v2)| {
-                if !(v1 > 0.0 && v2 > 0.0) {
-                    return [0, 0, 0];
-                }
-                let r = (f64::from(v2) / f64::from(v1)).log10() / 2.0;
-                let t = (r.abs().clamp(0.0, 1.0) * 255.0) as u8;
-                if r > 0.0 {
-                    [t, t / 6, 0]
-                } else {
-                    [0, t / 3, t]
-                }
-            })
-            .collect();
-        if let Some(c) = chosen {
-            for (px, py) in [c.a, c.b] {
-                for d in -4i32..=4 {
-                    for (x, y) in [(px as i32 + d, py as i32), (px as i32, py as i32 + d)] {
-                        if x >= 0 && y >= 0 && (x as u32) < w && (y as u32) < h {
-                            map[(y as u32 * w + x as u32) as usize] = [255, 255, 255];
-                        }
-                    }
-                }
-            }
+        chosen = choose(&all.variance[a], &all.variance[b], hidden, w);
+        if let Some(c) = chosen.as_mut() {
+            [c.parallel1, c.parallel2] = parallels(&exp.world, hidden, w, h);
         }
-        group.add_bytes(dir.join("orientation-map.png"), &rgb_png(w, h, &map)?)?;
+        let map = orientation_map(&all.variance[a], &all.variance[b], chosen.as_ref(), w, h);
+        add_png(&mut group, "orientation-map.png".into(), &map)?;
     }
-    let ref_var = reference_se
-        .iter()
-        .filter(|s| s.is_finite())
-        .map(|&s| f64::from(s) * f64::from(s))
-        .sum::<f64>()
-        / hit.len().max(1) as f64;
+    let hit = all.reference.iter().filter(|r| r.is_finite()).count();
+    let ref_var = images::reference_floor(&all);
     let comments = vec![
         format!(
-            "scene {} at {w}x{h}; {} pixels see a surface; direct light E = ∫ G V dA per pixel",
+            "scene {} at {w}x{h}; {hit} pixels see a surface; direct light E = ∫ G V dA per pixel",
             cfg.source.path,
-            hit.len()
         ),
         format!(
             "reference: {} x {} lines along edge 1 with jittered offsets; mean squared SE \
@@ -1369,31 +1233,8 @@ pub fn complete_images(
     group.commit()?;
     if !quiet {
         crate::out!("{}", text.trim_end());
-        if let Some(c) = chosen {
-            crate::out!(
-                "pixel A {:?}: var(edge2)/var(edge1) = {:.3}; pixel B {:?}: {:.3}",
-                c.a,
-                c.ratio_a,
-                c.b,
-                c.ratio_b
-            );
-            for (name, p) in [("P1", c.parallel1), ("P2", c.parallel2)] {
-                match p {
-                    Some(p) => crate::out!(
-                        "pixel {name} {:?}: a shadow edge {:.3}° from the light's edge {} \
-                         (a jump for N below about {:.0})",
-                        p.pixel,
-                        p.angle_deg,
-                        &name[1..],
-                        p.turn_n
-                    ),
-                    None => crate::out!(
-                        "no penumbra pixel has a shadow edge within {PARALLEL_MAX_DEG}° of the \
-                         light's edge {}",
-                        &name[1..]
-                    ),
-                }
-            }
+        if let Some(c) = &chosen {
+            print_chosen(c);
         }
         crate::out!(
             "wrote {} (and the images beside it)",
@@ -1441,28 +1282,15 @@ pub struct PixelConfig {
     pub shift: Option<ShiftMode>,
 }
 
-/// One cell: a reference (`row = None`) or a row's statistics.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct PixelCell {
-    pub count: u64,
-    pub moments: [f64; 4],
-    /// Seconds per estimate (single thread).
-    pub seconds: f64,
-}
-
-#[derive(Clone, Copy, Debug)]
-struct Job {
-    pixel: usize,
-    /// `None`: the reference.
-    row: Option<(usize, usize)>,
-}
+/// One cell: a reference or a row's statistics ([`study::StudyCell`]).
+pub type PixelCell = study::StudyCell;
 
 /// The pixel-study experiment.
 pub struct PixelStudy {
     config: PixelConfig,
     world: DlWorld,
     points: Vec<DlPixel>,
-    jobs: Vec<Job>,
+    layout: study::Layout,
     cells: Vec<CellInfo>,
 }
 
@@ -1470,20 +1298,13 @@ impl PixelStudy {
     /// The stream of cell `index`: the reference or a row at its pixel.
     #[must_use]
     pub fn stream(&self, index: usize) -> Stream {
-        let cfg = &self.config;
-        let job = self.jobs[index];
-        let (_, x, y) = &cfg.pixels[job.pixel];
-        let at = |part: Part| stream(part).pixel(*x, *y, cfg.width);
-        match job.row {
-            None => at(Part::Reference),
-            Some((e, i)) => at(Part::Study).row(e, cfg.ns[i]),
-        }
+        self.layout.stream(index)
     }
 
     /// The streams of every cell, in cell order.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        (0..self.jobs.len()).map(|i| self.stream(i)).collect()
+        self.layout.streams()
     }
 
     /// The experiment of `config`.
@@ -1493,9 +1314,8 @@ impl PixelStudy {
     pub fn new(config: PixelConfig) -> Result<Self, String> {
         let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
         let mut points = Vec::new();
-        let mut jobs = Vec::new();
-        let mut cells = Vec::new();
-        for (p, (label, x, y)) in config.pixels.iter().enumerate() {
+        let mut queries = Vec::new();
+        for (label, x, y) in &config.pixels {
             if *x >= config.width || *y >= config.height {
                 return Err(format!(
                     "pixel {label} ({x}, {y}) is outside the {}x{} image",
@@ -1511,35 +1331,70 @@ impl PixelStudy {
                 }
                 None => return Err(format!("pixel {label} ({x}, {y}) sees no surface")),
             }
-            jobs.push(Job {
-                pixel: p,
-                row: None,
+            queries.push(study::Query {
+                label: label.clone(),
+                stream: stream(Part::Study).pixel(*x, *y, config.width),
             });
-            cells.push(CellInfo {
-                label: format!("{label} ({x}, {y}) reference"),
-                work: config.reference_realisations,
-            });
-            for (e, est) in config.estimators.iter().enumerate() {
-                for (i, &n) in config.ns.iter().enumerate() {
-                    Pattern::new(est, n, config.shift)?;
-                    jobs.push(Job {
-                        pixel: p,
-                        row: Some((e, i)),
-                    });
-                    cells.push(CellInfo {
-                        label: format!("{label} {} N={n}", est.label()),
-                        work: config.realisations,
-                    });
-                }
+        }
+        for est in &config.estimators {
+            for &n in &config.ns {
+                Pattern::new(est, n, config.shift)?;
             }
         }
+        let layout = study::Layout {
+            queries,
+            rows: config.estimators.iter().map(DlEstimator::label).collect(),
+            ns: config.ns.clone(),
+            realisations: config.realisations,
+            reference_n: config.reference_lines,
+            reference_realisations: config.reference_realisations,
+        };
+        let cells = layout.cells();
         Ok(PixelStudy {
             config,
             world,
             points,
-            jobs,
+            layout,
             cells,
         })
+    }
+}
+
+impl study::StudyEffect for PixelStudy {
+    type Plan = (DlEstimator, Pattern);
+    type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
+    const CHUNK: u64 = CHUNK;
+
+    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+        // The reference (jittered lines along an edge) is never shifted.
+        let (est, shift) = match row {
+            None => (REFERENCE, None),
+            Some(e) => (self.config.estimators[e], self.config.shift),
+        };
+        Ok((est, Pattern::new(&est, n, shift)?))
+    }
+
+    fn scratch(&self) -> Result<Self::Scratch, String> {
+        Ok((Vec::new(), Vec::new(), Vec::new()))
+    }
+
+    fn estimate(
+        &self,
+        query: usize,
+        (est, pattern): &Self::Plan,
+        seed: Seed,
+        (vals, one, scratch): &mut Self::Scratch,
+    ) -> Result<f64, String> {
+        one_estimate(
+            &self.world,
+            &self.points[query],
+            est,
+            pattern,
+            seed,
+            vals,
+            one,
+            scratch,
+        )
     }
 }
 
@@ -1558,39 +1413,7 @@ impl Experiment for PixelStudy {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
-        let cfg = &self.config;
-        let job = self.jobs[index];
-        let px = &self.points[job.pixel];
-        let seed = Realisations::of(&self.stream(index), cfg.seed);
-        let (est, n, total) = match job.row {
-            None => (REFERENCE, cfg.reference_lines, cfg.reference_realisations),
-            Some((e, i)) => (cfg.estimators[e], cfg.ns[i], cfg.realisations),
-        };
-        let shift = if job.row.is_some() { cfg.shift } else { None };
-        let pattern = Pattern::new(&est, n, shift)?;
-        let (rs, seconds) = ctx.realisations(
-            total,
-            CHUNK,
-            || Ok((Vec::new(), Vec::new(), Vec::new())),
-            |(vals, one, scratch), r| {
-                one_estimate(
-                    &self.world,
-                    px,
-                    &est,
-                    &pattern,
-                    seed.at(r),
-                    vals,
-                    one,
-                    scratch,
-                )
-            },
-        )?;
-        let (count, moments) = rs.parts();
-        Ok(PixelCell {
-            count,
-            moments,
-            seconds,
-        })
+        study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
 
@@ -1614,6 +1437,8 @@ struct Row {
     variance_se: f64,
     #[serde(serialize_with = "table::sci")]
     seconds_per_estimate: f64,
+    /// Why the cell has no statistics (empty when it has).
+    error: String,
 }
 
 /// A row of `OUT/orientation.csv`.
@@ -1661,74 +1486,63 @@ pub fn complete_pixels(
     quiet: bool,
 ) -> Result<(), String> {
     let cfg = &exp.config;
+    let layout = &exp.layout;
     let mut group = FileGroup::new();
     let mut rows = Vec::new();
     let mut slopes = Vec::new();
     let mut orientation = Vec::new();
     let mut text = String::new();
-    let per_pixel = 1 + cfg.estimators.len() * cfg.ns.len();
+    let mut failed = Vec::new();
+    let nn = cfg.ns.len();
     for (p, (label, x, y)) in cfg.pixels.iter().enumerate() {
-        let base = p * per_pixel;
-        let st = |c: &PixelCell| {
-            RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
-        };
-        let r = st(&cells[base])?;
-        let (rv, rse) = (r.mean(), r.mean_std_error());
+        let (reference, stats) = study::analyse(layout, &cells, p)?;
+        let rv = reference.value;
         let _ = writeln!(
             text,
-            "pixel {label} ({x}, {y}): reference E = {rv:.6e} ± {rse:.1e} ({} x {} lines)",
-            cfg.reference_realisations, cfg.reference_lines
+            "pixel {label} ({x}, {y}): reference E = {rv:.6e} ± {:.1e} ({} x {} lines)",
+            reference.se, cfg.reference_realisations, cfg.reference_lines
         );
         let mut series = Vec::new();
+        let mut time_series = Vec::new();
         for (e, est) in cfg.estimators.iter().enumerate() {
-            let mut pts = Vec::new();
-            let mut secs = Vec::new();
-            for (i, &n) in cfg.ns.iter().enumerate() {
-                let c = &cells[base + 1 + e * cfg.ns.len() + i];
-                let s = st(c)?;
-                let se = s.mean_std_error();
-                let z = (s.mean() - rv) / se.hypot(rse);
+            let rs = &stats[e * nn..(e + 1) * nn];
+            for r in rs {
                 rows.push(Row {
                     pixel: label.clone(),
                     x: *x,
                     y: *y,
                     estimator: est.name(),
                     sampler: est.sampler.name().into(),
-                    n,
-                    realisations: s.count(),
-                    mean: s.mean(),
-                    bias_z: z,
-                    variance: s.variance(),
-                    variance_se: s.variance_std_error(),
-                    seconds_per_estimate: c.seconds,
+                    n: r.n,
+                    realisations: r.realisations,
+                    mean: r.mean,
+                    bias_z: r.bias_z,
+                    variance: r.variance,
+                    variance_se: r.variance_se,
+                    seconds_per_estimate: r.seconds,
+                    error: r.error.clone().unwrap_or_default(),
                 });
-                pts.push((n as f64, s.variance(), s.variance_std_error()));
-                secs.push(c.seconds);
+                failed.extend(r.error.clone());
             }
-            let fit = fit_loglog(&pts);
-            let (slope, se) = fit.map_or((f64::NAN, f64::NAN), |f| (f.slope, f.slope_se));
-            let m = pts.len();
-            let last = last_slope(&pts);
-            // Time to RMSE = 1 % of E: N with var(N) = (0.01 E)², time ∝ N.
-            let t1 = n_to_target(fit.as_ref(), (0.01 * rv).powi(2)) * secs[m - 1] / pts[m - 1].0;
+            let fit = study::fit_row(rs, None, rv, false);
+            let (slope, lo, hi) = fit.interval();
             let _ = writeln!(
                 text,
-                "  {:<30} slope {slope:+.2} [{:+.2}, {:+.2}]  last two N {last:+.2}  \
+                "  {:<30} slope {slope:+.2} [{lo:+.2}, {hi:+.2}]  last two N {:+.2}  \
                  time to 1 %: {} s",
                 est.label(),
-                slope - 1.96 * se,
-                slope + 1.96 * se,
-                fit_sci(t1, 2)
+                fit.last_slope,
+                fit_sci(fit.seconds_to_1pct, 2)
             );
             slopes.push(SlopeRow {
                 pixel: label.clone(),
                 estimator: est.name(),
                 sampler: est.sampler.name().into(),
                 slope,
-                slope_ci_low: slope - 1.96 * se,
-                slope_ci_high: slope + 1.96 * se,
-                last_slope: last,
-                seconds_to_1pct: t1,
+                slope_ci_low: lo,
+                slope_ci_high: hi,
+                last_slope: fit.last_slope,
+                seconds_to_1pct: fit.seconds_to_1pct,
             });
             if est.sampler == SceneSampler::Jittered {
                 orientation.push(OrientationRow {
@@ -1737,23 +1551,12 @@ pub fn complete_pixels(
                     y: *y,
                     estimator: est.name(),
                     slope,
-                    slope_ci_low: slope - 1.96 * se,
-                    slope_ci_high: slope + 1.96 * se,
+                    slope_ci_low: lo,
+                    slope_ci_high: hi,
                 });
             }
-            let (n0, n1) = (pts[0].0, pts[m - 1].0);
-            series.push(Series {
-                label: est.label(),
-                points: pts.clone(),
-                fit: fit.map(|f| Line {
-                    a: f.intercept,
-                    slope: f.slope,
-                    log_power: 0,
-                    x0: n0,
-                    x1: n1,
-                }),
-                ..Series::default()
-            });
+            series.push(study::convergence_series(est.label(), rs, &fit));
+            time_series.push(study::time_series(est.label(), rs, rv));
         }
         let title = format!("Direct light, pixel {label} ({x}, {y}): variance vs N");
         let svg = multi::multi(&Multi {
@@ -1765,30 +1568,6 @@ pub fn complete_pixels(
             log_x: true,
         })?;
         group.add_bytes(dir.join(format!("convergence-{label}.svg")), svg.as_bytes())?;
-        // Time to error: RMSE against seconds per estimate.
-        let time_series: Vec<Series> = series
-            .iter()
-            .enumerate()
-            .map(|(e, s)| {
-                let secs: Vec<f64> = (0..cfg.ns.len())
-                    .map(|i| cells[base + 1 + e * cfg.ns.len() + i].seconds)
-                    .collect();
-                Series {
-                    label: s.label.clone(),
-                    points: s
-                        .points
-                        .iter()
-                        .zip(&secs)
-                        .map(|(&(_, v, vse), &t)| {
-                            let rmse = v.sqrt() / rv;
-                            (t, rmse, 0.5 * vse / v.sqrt() / rv)
-                        })
-                        .collect(),
-                    joined: true,
-                    ..Series::default()
-                }
-            })
-            .collect();
         let title = format!("Direct light, pixel {label} ({x}, {y}): error vs time");
         let svg = multi::multi(&Multi {
             title: &title,
@@ -1825,7 +1604,7 @@ pub fn complete_pixels(
         crate::out!("{}", text.trim_end());
         crate::out!("wrote {}", parent.join("orientation.csv").display());
     }
-    Ok(())
+    study::no_failures("pixel studies", &failed, &dir.join("rows.csv"))
 }
 
 fn reproduce_pixels(cfg: &PixelConfig) -> String {

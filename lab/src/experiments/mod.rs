@@ -7,11 +7,13 @@ pub mod caustic;
 pub mod convergence;
 pub mod direct;
 pub mod gallery;
+pub mod images;
 pub mod paper;
 pub mod patterns;
 pub mod scene;
 pub mod scene_theory;
 pub mod spectrum;
+pub mod study;
 
 use std::path::Path;
 

@@ -35,25 +35,24 @@
 //! draws the numbers of its f64 twin (their difference is then the f32
 //! rounding alone).
 
-use std::fmt::Write as _;
 use std::path::Path;
-use std::time::Instant;
 
-use linesample::stats::RunningStats;
 use serde::{Deserialize, Serialize};
 
 pub use crate::experiments::ao_model::{EstimatorSpec, Offsets, Pixel, World, SIMD_SPHERES};
+use crate::experiments::images;
 use crate::experiments::scene_theory;
+use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
-use crate::figures::image::{self, Color};
-use crate::figures::multi::{self, Line, Multi, Series};
-use crate::fit::{fit_loglog, fit_sci, n_to_target};
-use crate::io::{self, buffer, table, FileGroup};
+use crate::figures::image;
+use crate::figures::multi::{self, Multi};
+use crate::fit::fit_sci;
+use crate::io::{self, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::scene::{self, CentrePdf, Primitive, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
-use crate::streams::{stream_rows, Part, Realisations, Stream};
+use crate::streams::{stream_rows, Part, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene";
@@ -166,25 +165,14 @@ pub struct ImagesConfig {
     pub rows_per_cell: u32,
 }
 
-/// One block of rows.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct ImagesCell {
-    /// Reference mean per pixel (NaN: sky).
-    pub reference: Vec<f32>,
-    /// Its standard error.
-    pub reference_se: Vec<f32>,
-    /// `images[e·L + l]`: estimator `e` at ladder `N_l`, per pixel.
-    pub images: Vec<Vec<f32>>,
-    /// Per-pixel variance of each estimator at `N = n`.
-    pub variance: Vec<Vec<f32>>,
-    /// Seconds spent on `images[e·L + l]`.
-    pub seconds: Vec<f64>,
-}
+/// One block of rows ([`images::ImagesCell`]).
+pub type ImagesCell = images::ImagesCell;
 
 /// The image experiment.
 pub struct Images {
     config: ImagesConfig,
     world: World,
+    twin: Vec<usize>,
     cells: Vec<CellInfo>,
 }
 
@@ -195,12 +183,72 @@ impl Images {
     /// A scene that no longer parses or a sphere the kernel refuses.
     pub fn new(config: ImagesConfig) -> Result<Self, String> {
         let world = World::new(config.source.scene()?, config.width, config.height)?;
-        let cells = row_blocks(config.width, config.height, config.rows_per_cell);
+        let cells = images::row_blocks(config.width, config.height, config.rows_per_cell);
+        let twin = stream_rows(&config.estimators, |e| EstimatorSpec { simd: false, ..e });
         Ok(Images {
             config,
             world,
+            twin,
             cells,
         })
+    }
+
+    fn grid(&self) -> images::Grid<'_> {
+        let c = &self.config;
+        images::Grid {
+            width: c.width,
+            height: c.height,
+            seed: c.seed,
+            n: c.n,
+            ladder: &c.ladder,
+            variance_realisations: c.variance_realisations,
+            reference_lines: c.reference_lines,
+            reference_realisations: c.reference_realisations,
+            rows_per_cell: c.rows_per_cell,
+        }
+    }
+}
+
+impl images::ImageEffect for Images {
+    type Pixel = Pixel;
+    type Plan = (EstimatorSpec, Offsets);
+    type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
+
+    fn stream(&self, x: u32, y: u32) -> Stream {
+        stream(Part::Image).pixel(x, y, self.config.width)
+    }
+
+    fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
+        self.world.pixel(x, y)
+    }
+
+    fn estimators(&self) -> usize {
+        self.config.estimators.len()
+    }
+
+    fn twin(&self, e: usize) -> usize {
+        self.twin[e]
+    }
+
+    fn plan(&self, e: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+        let spec = e.map_or(REFERENCE, |e| self.config.estimators[e]);
+        let offsets = Offsets::new(&spec, n, self.config.shift == ShiftMode::Random)?;
+        Ok((spec, offsets))
+    }
+
+    fn scratch(&self) -> Self::Scratch {
+        (self.world.scratch(), Vec::new())
+    }
+
+    fn estimate(
+        &self,
+        px: &Pixel,
+        (spec, offsets): &Self::Plan,
+        seed: linesample::Seed,
+        (scratch, uv): &mut Self::Scratch,
+    ) -> Result<f64, String> {
+        offsets.fill(seed, uv)?;
+        self.world.estimate(px, spec, uv, scratch)
     }
 }
 
@@ -219,80 +267,7 @@ impl Experiment for Images {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
-        let cfg = &self.config;
-        let rows = cfg.rows_per_cell.max(1);
-        let y0 = index as u32 * rows;
-        let y1 = (y0 + rows).min(cfg.height);
-        let shift = cfg.shift == ShiftMode::Random;
-        let count = ((y1 - y0) * cfg.width) as usize;
-        let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
-        let reference = Offsets::new(&REFERENCE, cfg.reference_lines, shift)?;
-        let mut offsets = Vec::with_capacity(ne * nl);
-        for e in &cfg.estimators {
-            for &n in &cfg.ladder {
-                offsets.push(Offsets::new(e, n, shift)?);
-            }
-        }
-        let at_n = cfg
-            .ladder
-            .iter()
-            .position(|&n| n == cfg.n)
-            .ok_or("internal error: --n is not on the ladder")?;
-        let nan = f32::NAN;
-        let mut cell = ImagesCell {
-            reference: buffer::filled(count, nan, "the reference image")?,
-            reference_se: buffer::filled(count, nan, "the reference SE image")?,
-            images: (0..ne * nl)
-                .map(|_| buffer::filled(count, nan, "an image"))
-                .collect::<Result<_, _>>()?,
-            variance: (0..ne)
-                .map(|_| buffer::filled(count, nan, "a variance image"))
-                .collect::<Result<_, _>>()?,
-            seconds: vec![0.0; ne * nl],
-        };
-        let mut scratch = self.world.scratch();
-        let mut uv = Vec::new();
-        let twin = stream_rows(&cfg.estimators, |e| EstimatorSpec { simd: false, ..e });
-        for y in y0..y1 {
-            for x in 0..cfg.width {
-                let p = ((y - y0) * cfg.width + x) as usize;
-                let Some(px) = self.world.pixel(x, y) else {
-                    continue;
-                };
-                let mut rs = RunningStats::new();
-                let base = stream(Part::ImageReference).pixel(x, y, cfg.width);
-                let base = Realisations::of(&base, cfg.seed);
-                for r in 0..cfg.reference_realisations {
-                    reference.fill(base.at(r), &mut uv)?;
-                    rs.push(self.world.estimate(&px, &REFERENCE, &uv, &mut scratch)?);
-                }
-                cell.reference[p] = rs.mean() as f32;
-                cell.reference_se[p] = rs.mean_std_error() as f32;
-                for (e, spec_e) in cfg.estimators.iter().enumerate() {
-                    for (l, &n) in cfg.ladder.iter().enumerate() {
-                        let k = e * nl + l;
-                        let seed = stream(Part::Image).pixel(x, y, cfg.width).row(twin[e], n);
-                        let seed = Realisations::of(&seed, cfg.seed);
-                        let t = Instant::now();
-                        offsets[k].fill(seed.at(0), &mut uv)?;
-                        let v = self.world.estimate(&px, spec_e, &uv, &mut scratch)?;
-                        cell.seconds[k] += t.elapsed().as_secs_f64();
-                        cell.images[k][p] = v as f32;
-                        if l == at_n {
-                            let mut vs = RunningStats::new();
-                            vs.push(v);
-                            for r in 1..cfg.variance_realisations {
-                                offsets[k].fill(seed.at(r), &mut uv)?;
-                                vs.push(self.world.estimate(&px, spec_e, &uv, &mut scratch)?);
-                            }
-                            cell.variance[e][p] = vs.variance() as f32;
-                        }
-                    }
-                }
-            }
-            ctx.advance(u64::from(cfg.width));
-        }
-        Ok(cell)
+        images::run_cell(self, &self.grid(), index, ctx)
     }
 }
 
@@ -308,23 +283,6 @@ pub fn ladder(sampler: SceneSampler, max: usize) -> Vec<usize> {
             .take_while(|&n| n <= max)
             .collect()
     }
-}
-
-/// An `images.csv` row.
-#[derive(Serialize)]
-struct ImageRow {
-    estimator: String,
-    n: usize,
-    #[serde(serialize_with = "table::sci")]
-    seconds: f64,
-    #[serde(serialize_with = "table::sci")]
-    seconds_per_sample: f64,
-    #[serde(serialize_with = "table::sci")]
-    mse: f64,
-    #[serde(serialize_with = "table::sci")]
-    mean_variance: f64,
-    equal_samples: bool,
-    equal_time: bool,
 }
 
 fn ao_rgb(v: f32) -> [u8; 3] {
@@ -345,64 +303,7 @@ fn log_rgb(v: f32, lo: f64, hi: f64) -> [u8; 3] {
     }
 }
 
-/// The cells of an image run: blocks of `rows` rows (at least 1) of a
-/// `width × height` image, the last one possibly shorter.
-pub(crate) fn row_blocks(width: u32, height: u32, rows: u32) -> Vec<CellInfo> {
-    let rows = rows.max(1);
-    (0..height.div_ceil(rows))
-        .map(|c| {
-            let y0 = c * rows;
-            let y1 = (y0 + rows).min(height);
-            CellInfo {
-                label: format!("rows {y0}..{y1}"),
-                work: u64::from((y1 - y0) * width),
-            }
-        })
-        .collect()
-}
-
-/// An RGB PNG of `w × h` pixels.
-pub(crate) fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> Result<Vec<u8>, String> {
-    let flat: Vec<u8> = px.iter().flatten().copied().collect();
-    image::png(w, h, Color::Rgb, &flat)
-}
-
-/// Mean squared difference from the reference over the pixels that hit.
-fn mse(img: &[f32], reference: &[f32]) -> f64 {
-    let (mut s, mut c) = (0.0, 0usize);
-    for (a, r) in img.iter().zip(reference) {
-        if !r.is_nan() {
-            let d = f64::from(*a) - f64::from(*r);
-            s += d * d;
-            c += 1;
-        }
-    }
-    s / c.max(1) as f64
-}
-
-fn mean_finite(v: &[f32]) -> f64 {
-    let (mut s, mut c) = (0.0, 0usize);
-    for x in v.iter().filter(|x| x.is_finite()) {
-        s += f64::from(*x);
-        c += 1;
-    }
-    s / c.max(1) as f64
-}
-
-/// The equal-time ladder index per estimator: the image whose time is
-/// closest in ratio to `target` seconds.
-fn equal_time(seconds: &[f64], ne: usize, nl: usize, target: f64) -> Vec<usize> {
-    (0..ne)
-        .map(|e| {
-            (0..nl)
-                .min_by(|&a, &b| {
-                    let d = |l: usize| (seconds[e * nl + l] / target).ln().abs();
-                    d(a).total_cmp(&d(b))
-                })
-                .unwrap_or(0)
-        })
-        .collect()
-}
+pub(crate) use images::rgb_png;
 
 /// Writes the images, `images.csv` and `manifest.json` as one group, and
 /// prints the table.
@@ -417,41 +318,18 @@ pub fn complete_images(
     quiet: bool,
 ) -> Result<(), String> {
     let cfg = &exp.config;
+    let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
     let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
-    let total = (w * h) as usize;
-    let mut reference = buffer::empty(total, "the reference image")?;
-    let mut reference_se = buffer::empty(total, "the reference SE image")?;
-    let mut images: Vec<Vec<f32>> = (0..ne * nl)
-        .map(|_| buffer::empty(total, "an image"))
-        .collect::<Result<_, _>>()?;
-    let mut variance: Vec<Vec<f32>> = (0..ne)
-        .map(|_| buffer::empty(total, "a variance image"))
-        .collect::<Result<_, _>>()?;
-    let mut seconds = vec![0.0; ne * nl];
-    for c in cells {
-        reference.extend_from_slice(&c.reference);
-        reference_se.extend_from_slice(&c.reference_se);
-        for (a, b) in images.iter_mut().zip(&c.images) {
-            a.extend_from_slice(b);
-        }
-        for (a, b) in variance.iter_mut().zip(&c.variance) {
-            a.extend_from_slice(b);
-        }
-        for (a, b) in seconds.iter_mut().zip(&c.seconds) {
-            *a += b;
-        }
-    }
-    let at_n = cfg.ladder.iter().position(|&n| n == cfg.n).unwrap_or(0);
+    let all = images::assemble(cells, (w * h) as usize)?;
+    let at_n = grid.at_n().unwrap_or(0);
     let lines = cfg
         .estimators
         .iter()
         .position(|e| e.primitive == Primitive::Lines);
-    let target = lines.map_or(seconds[at_n], |e| seconds[e * nl + at_n]);
-    let et = equal_time(&seconds, ne, nl, target);
-    let pixels_hit = reference.iter().filter(|r| !r.is_nan()).count();
-
-    let mut group = FileGroup::new();
+    let target = all.seconds[lines.unwrap_or(0) * nl + at_n];
+    let et = images::equal_time(&all.seconds, ne, nl, target);
+    let pixels_hit = all.reference.iter().filter(|r| !r.is_nan()).count();
     let ao_img = |v: &[f32]| v.iter().map(|&x| ao_rgb(x)).collect::<Vec<_>>();
     let var_img = |v: &[f32]| {
         v.iter()
@@ -463,104 +341,37 @@ pub fn complete_images(
             .map(|&x| log_rgb(x, -5.0, -2.0))
             .collect::<Vec<_>>()
     };
-    group.add_bytes(
-        dir.join("reference.png"),
-        &rgb_png(w, h, &ao_img(&reference))?,
-    )?;
-    group.add_bytes(
-        dir.join("reference-se.png"),
-        &rgb_png(w, h, &se_img(&reference_se))?,
+    let mut group = FileGroup::new();
+    let add_png = |group: &mut FileGroup, name: String, px: &[[u8; 3]]| {
+        group.add_bytes(dir.join(name), &rgb_png(w, h, px)?)
+    };
+    add_png(&mut group, "reference.png".into(), &ao_img(&all.reference))?;
+    add_png(
+        &mut group,
+        "reference-se.png".into(),
+        &se_img(&all.reference_se),
     )?;
     // The sheet: columns reference + estimators; rows equal samples, equal
     // time, variance.
-    let gap = 4u32;
-    let cols = ne as u32 + 1;
-    let (sw, sh) = (cols * w + (cols - 1) * gap, 3 * h + 2 * gap);
-    let mut sheet = vec![[255u8; 3]; (sw * sh) as usize];
-    let mut put = |col: u32, row: u32, px: &[[u8; 3]]| {
-        for y in 0..h {
-            let dst = ((row * (h + gap) + y) * sw + col * (w + gap)) as usize;
-            let src = (y * w) as usize;
-            sheet[dst..dst + w as usize].copy_from_slice(&px[src..src + w as usize]);
-        }
-    };
-    put(0, 0, &ao_img(&reference));
-    put(0, 1, &se_img(&reference_se));
-    let mut rows = Vec::new();
-    let mut text = String::new();
-    let _ = writeln!(
-        text,
-        "{:<40} {:>5} {:>10} {:>12} {:>11} {:>11}  shown",
-        "estimator", "N", "seconds", "s/sample", "MSE", "mean Var"
-    );
+    let mut columns = vec![vec![
+        Some(ao_img(&all.reference)),
+        Some(se_img(&all.reference_se)),
+    ]];
     for (e, spec) in cfg.estimators.iter().enumerate() {
         let stem = spec.stem();
-        let eq = &images[e * nl + at_n];
-        let tm = &images[e * nl + et[e]];
-        group.add_bytes(
-            dir.join(format!("equal-samples-{stem}.png")),
-            &rgb_png(w, h, &ao_img(eq))?,
-        )?;
-        group.add_bytes(
-            dir.join(format!("equal-time-{stem}.png")),
-            &rgb_png(w, h, &ao_img(tm))?,
-        )?;
-        group.add_bytes(
-            dir.join(format!("variance-{stem}.png")),
-            &rgb_png(w, h, &var_img(&variance[e]))?,
-        )?;
-        let col = e as u32 + 1;
-        put(col, 0, &ao_img(eq));
-        put(col, 1, &ao_img(tm));
-        put(col, 2, &var_img(&variance[e]));
-        for (l, &n) in cfg.ladder.iter().enumerate() {
-            let k = e * nl + l;
-            let samples = (n * pixels_hit).max(1) as f64;
-            let row = ImageRow {
-                estimator: spec.label(),
-                n,
-                seconds: seconds[k],
-                seconds_per_sample: seconds[k] / samples,
-                mse: mse(&images[k], &reference),
-                mean_variance: if l == at_n {
-                    mean_finite(&variance[e])
-                } else {
-                    f64::NAN
-                },
-                equal_samples: l == at_n,
-                equal_time: l == et[e],
-            };
-            if row.equal_samples || row.equal_time {
-                let _ = writeln!(
-                    text,
-                    "{:<40} {:>5} {:>10.3e} {:>12.3e} {:>11.3e} {:>11}  {}",
-                    row.estimator,
-                    n,
-                    row.seconds,
-                    row.seconds_per_sample,
-                    row.mse,
-                    if row.mean_variance.is_nan() {
-                        String::new()
-                    } else {
-                        format!("{:.3e}", row.mean_variance)
-                    },
-                    match (row.equal_samples, row.equal_time) {
-                        (true, true) => "equal samples, equal time",
-                        (true, false) => "equal samples",
-                        _ => "equal time",
-                    }
-                );
-            }
-            rows.push(row);
-        }
+        let eq = ao_img(&all.images[e * nl + at_n]);
+        let tm = ao_img(&all.images[e * nl + et[e]]);
+        let var = var_img(&all.variance[e]);
+        add_png(&mut group, format!("equal-samples-{stem}.png"), &eq)?;
+        add_png(&mut group, format!("equal-time-{stem}.png"), &tm)?;
+        add_png(&mut group, format!("variance-{stem}.png"), &var)?;
+        columns.push(vec![Some(eq), Some(tm), Some(var)]);
     }
+    let (sw, sh, sheet) = images::sheet(w, h, &columns);
     group.add_bytes(dir.join("sheet.png"), &rgb_png(sw, sh, &sheet)?)?;
-    let ref_var = reference_se
-        .iter()
-        .filter(|s| s.is_finite())
-        .map(|&s| f64::from(s) * f64::from(s))
-        .sum::<f64>()
-        / pixels_hit.max(1) as f64;
+    let labels: Vec<String> = cfg.estimators.iter().map(EstimatorSpec::label).collect();
+    let (rows, text) = images::image_rows(&all, &grid, &labels, at_n, &et);
+    let ref_var = images::reference_floor(&all);
     let comments = vec![
         format!(
             "scene {} at {w}x{h}; {pixels_hit} pixels hit the scene; estimators use sampler {} \
@@ -649,37 +460,30 @@ pub const PREDICT_MAX_2D: usize = 1024;
 /// The `N` whose multi-jittered offset spectrum is drawn.
 pub const MJ_SPECTRUM_N: usize = 256;
 
-/// One cell of the pixel study: running statistics (count and the four
-/// moment sums of [`RunningStats::parts`]) and seconds per estimate; a
-/// prediction cell holds the predicted variance of each row it serves and,
+/// One cell of the pixel study: a measured cell ([`study::StudyCell`]) or,
+/// for a prediction cell, the predicted variance of each row it serves and,
 /// for the drawn multi-jittered spectrum, the mean periodogram.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PixelCell {
-    pub count: u64,
-    pub moments: [f64; 4],
-    pub seconds_per_estimate: f64,
+    pub measured: study::StudyCell,
     /// `(row, predicted variance)`.
     pub predictions: Vec<(usize, f64)>,
     /// `⟨N·P⟩` on the half grid (the drawn spectrum only).
     pub periodogram: Vec<f64>,
-    /// Why a measured cell has no statistics (an error of the kernel or a
-    /// non-finite estimate, naming the estimator, `N` and realisation): the
-    /// study still completes every other row and reports this one as
-    /// failed.
-    pub error: Option<String>,
 }
 
 impl PixelCell {
     /// A measured cell that failed with `error`.
     #[must_use]
     pub fn failed(error: String) -> Self {
+        PixelCell::measured(study::StudyCell::failed(error))
+    }
+
+    fn measured(measured: study::StudyCell) -> Self {
         PixelCell {
-            count: 0,
-            moments: [0.0; 4],
-            seconds_per_estimate: 0.0,
+            measured,
             predictions: Vec::new(),
             periodogram: Vec::new(),
-            error: Some(error),
         }
     }
 }
@@ -706,6 +510,7 @@ pub struct PixelStudy {
     config: PixelConfig,
     world: World,
     px: Pixel,
+    layout: study::Layout,
     cells: Vec<CellInfo>,
     jobs: Vec<SpectrumJob>,
     theory: Option<Theory>,
@@ -729,18 +534,18 @@ impl PixelStudy {
         let px = world
             .pixel(x, y)
             .ok_or_else(|| format!("--pixel {x},{y}: the camera ray misses every sphere"))?;
-        let mut cells = vec![CellInfo {
-            label: "reference".into(),
-            work: config.reference_realisations,
-        }];
-        for r in &config.rows {
-            for &n in &config.ns {
-                cells.push(CellInfo {
-                    label: format!("{} N = {n}", r.label()),
-                    work: config.realisations,
-                });
-            }
-        }
+        let layout = study::Layout {
+            queries: vec![study::Query {
+                label: String::new(),
+                stream: stream(Part::Study).pixel(x, y, config.width),
+            }],
+            rows: config.rows.iter().map(EstimatorSpec::label).collect(),
+            ns: config.ns.clone(),
+            realisations: config.realisations,
+            reference_n: config.reference_lines,
+            reference_realisations: config.reference_realisations,
+        };
+        let mut cells = layout.cells();
         let mut jobs = Vec::new();
         let mut theory = None;
         if config.spectrum_realisations > 0 {
@@ -795,6 +600,7 @@ impl PixelStudy {
             config,
             world,
             px,
+            layout,
             cells,
             jobs,
             theory,
@@ -849,27 +655,21 @@ impl PixelStudy {
         let drawn =
             !job.lines && job.sampler == SceneSampler::MultiJittered && job.n == MJ_SPECTRUM_N;
         Ok(PixelCell {
-            count: 0,
-            moments: [0.0; 4],
-            seconds_per_estimate: 0.0,
+            measured: study::StudyCell {
+                count: 0,
+                moments: [0.0; 4],
+                seconds: 0.0,
+                error: None,
+            },
             predictions,
             periodogram: if drawn { np } else { Vec::new() },
-            error: None,
         })
     }
 
     /// The stream of measured cell `index` (the reference or a row).
     #[must_use]
     pub fn stream(&self, index: usize) -> Stream {
-        let (x, y) = self.config.pixel;
-        let at = |part: Part| stream(part).pixel(x, y, self.config.width);
-        if index == 0 {
-            at(Part::Reference)
-        } else {
-            let k = index - 1;
-            let nn = self.config.ns.len();
-            at(Part::Study).row(k / nn, self.config.ns[k % nn])
-        }
+        self.layout.stream(index)
     }
 
     /// The stream of spectral prediction job `j`.
@@ -884,51 +684,36 @@ impl PixelStudy {
     /// and `N`) and of the spectral predictions.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        let measured = self.config.rows.len() * self.config.ns.len();
-        (0..=measured)
-            .map(|i| self.stream(i))
-            .chain((0..self.jobs.len()).map(|j| self.spectrum_stream(j)))
-            .collect()
+        let mut v = self.layout.streams();
+        v.extend((0..self.jobs.len()).map(|j| self.spectrum_stream(j)));
+        v
+    }
+}
+
+impl study::StudyEffect for PixelStudy {
+    type Plan = (EstimatorSpec, Offsets);
+    type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
+    const CHUNK: u64 = CHUNK;
+
+    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+        let spec = row.map_or(REFERENCE, |e| self.config.rows[e]);
+        let offsets = Offsets::new(&spec, n, self.config.shift == ShiftMode::Random)?;
+        Ok((spec, offsets))
     }
 
-    fn row_n(&self, index: usize) -> (EstimatorSpec, usize) {
-        let k = index - 1;
-        let nn = self.config.ns.len();
-        (self.config.rows[k / nn], self.config.ns[k % nn])
+    fn scratch(&self) -> Result<Self::Scratch, String> {
+        Ok((self.world.scratch(), Vec::new()))
     }
 
-    fn stats(
+    fn estimate(
         &self,
-        ctx: &Ctx<'_>,
-        spec: &EstimatorSpec,
-        n: usize,
-        realisations: u64,
-        seed: Realisations,
-    ) -> Result<PixelCell, String> {
-        let offsets = Offsets::new(spec, n, self.config.shift == ShiftMode::Random)?;
-        let (all, seconds_per_estimate) = ctx.realisations(
-            realisations,
-            CHUNK,
-            || Ok((self.world.scratch(), Vec::new())),
-            |(scratch, uv), r| {
-                offsets.fill(seed.at(r), uv)?;
-                let e = self.world.estimate(&self.px, spec, uv, scratch)?;
-                if e.is_finite() {
-                    Ok(e)
-                } else {
-                    Err(format!("realisation {r}: the estimate is {e}"))
-                }
-            },
-        )?;
-        let (count, moments) = all.parts();
-        Ok(PixelCell {
-            count,
-            moments,
-            seconds_per_estimate,
-            predictions: Vec::new(),
-            periodogram: Vec::new(),
-            error: None,
-        })
+        _query: usize,
+        (spec, offsets): &Self::Plan,
+        seed: linesample::Seed,
+        (scratch, uv): &mut Self::Scratch,
+    ) -> Result<f64, String> {
+        offsets.fill(seed, uv)?;
+        self.world.estimate(&self.px, spec, uv, scratch)
     }
 }
 
@@ -948,31 +733,10 @@ impl Experiment for PixelStudy {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
-        let cfg = &self.config;
-        if index == 0 {
-            return self.stats(
-                ctx,
-                &REFERENCE,
-                cfg.reference_lines,
-                cfg.reference_realisations,
-                Realisations::of(&self.stream(index), cfg.seed),
-            );
+        if index >= self.layout.len() {
+            return self.spectrum_cell(index - self.layout.len(), ctx);
         }
-        let measured = cfg.rows.len() * cfg.ns.len();
-        if index > measured {
-            return self.spectrum_cell(index - measured - 1, ctx);
-        }
-        let (spec, n) = self.row_n(index);
-        let seed = Realisations::of(&self.stream(index), cfg.seed);
-        match self.stats(ctx, &spec, n, cfg.realisations, seed) {
-            // A failed row is kept as such (the other rows go on), unless
-            // the run is being stopped.
-            Err(e) if crate::runner::stop::requested().is_none() => Ok(PixelCell::failed(format!(
-                "{} at N = {n}: {e}",
-                spec.label()
-            ))),
-            other => other,
-        }
+        study::run_cell(self, &self.layout, index, self.config.seed, ctx).map(PixelCell::measured)
     }
 }
 
@@ -1114,35 +878,7 @@ pub struct SlopeRow {
     pub error: String,
 }
 
-/// Slack added to each side of a slope's 95 % interval by [`verdict`].
-pub const SLOPE_SLACK: f64 = 0.15;
-
-/// The verdict on a fitted slope against the theory's rate `theory` (NaN:
-/// infinite variance, no rate), with `log` when the theory has a `log N`
-/// factor: `consistent` if the theory lies in the 95 % interval
-/// `[lo, hi]` widened by [`SLOPE_SLACK`]; `log factor` if the slope is
-/// shallower than a theory with a `log N` factor by less than 0.5;
-/// `pre-asymptotic` if the slope between the two largest `N` is consistent
-/// by the same widened rule; else `not consistent`.
-#[must_use]
-pub fn verdict(
-    theory: f64,
-    log: bool,
-    (slope, lo, hi): (f64, f64, f64),
-    (last, last_se): (f64, f64),
-) -> &'static str {
-    if theory.is_nan() {
-        "infinite variance"
-    } else if theory >= lo - SLOPE_SLACK && theory <= hi + SLOPE_SLACK {
-        "consistent"
-    } else if log && slope > theory && slope < theory + 0.5 {
-        "log factor"
-    } else if (last - theory).abs() <= 1.96 * last_se + SLOPE_SLACK {
-        "pre-asymptotic"
-    } else {
-        "not consistent"
-    }
-}
+pub use crate::experiments::study::{verdict, SLOPE_SLACK};
 
 /// The pixel study's JSON document.
 #[derive(Serialize)]
@@ -1175,135 +911,59 @@ pub fn complete_pixel(
     quiet: bool,
 ) -> Result<(), String> {
     let cfg = &exp.config;
-    let stats = |c: &PixelCell| {
-        RunningStats::from_parts(c.count, c.moments).map_err(|e| format!("a stored cell: {e}"))
-    };
-    let ref_stats = stats(&cells[0])?;
+    let measured: Vec<study::StudyCell> = cells[..exp.layout.len()]
+        .iter()
+        .map(|c| c.measured.clone())
+        .collect();
+    let (ref_stats, stats) = study::analyse(&exp.layout, &measured, 0)?;
     let reference = Reference {
-        value: ref_stats.mean(),
-        se: ref_stats.mean_std_error(),
+        value: ref_stats.value,
+        se: ref_stats.se,
         method: format!(
             "{} realisations of {} lines with 1D-jittered azimuths (closed-form visibility)",
             cfg.reference_realisations, cfg.reference_lines
         ),
     };
-    let measured = cfg.rows.len() * cfg.ns.len();
-    let mut predicted = vec![f64::NAN; measured];
-    let mut mj_spectrum = None;
-    for (j, c) in cells.iter().enumerate().skip(measured + 1) {
-        let job = exp.jobs[j - measured - 1];
-        for &(k, v) in &c.predictions {
-            if let Some(i) = cfg.ns.iter().position(|&n| n == job.n) {
-                predicted[k * cfg.ns.len() + i] = v;
-            }
-        }
-        if !c.periodogram.is_empty() {
-            mj_spectrum = Some(&c.periodogram);
-        }
-    }
-    let mut rows = Vec::new();
-    for (i, c) in cells.iter().enumerate().take(measured + 1).skip(1) {
-        let (spec, n) = exp.row_n(i);
-        // A failed cell, or one whose stored statistics do not decode,
-        // becomes a row of NaNs with its error; the others go on.
-        let s = match stats(c) {
-            Ok(s) if c.error.is_none() => s,
-            decoded => {
-                let e = c.error.clone().unwrap_or_else(|| {
-                    let why = decoded.err().unwrap_or_default();
-                    format!("{} at N = {n}: {why}", spec.label())
-                });
-                rows.push(PixelRow {
-                    estimator: spec.label(),
-                    primitive: spec.primitive,
-                    length: spec.length,
-                    pdf: spec.pdf,
-                    sampler: spec.sampler,
-                    n,
-                    realisations: 0,
-                    mean: f64::NAN,
-                    bias_z: f64::NAN,
-                    variance: f64::NAN,
-                    variance_se: f64::NAN,
-                    seconds_per_estimate: f64::NAN,
-                    predicted_variance: predicted[i - 1],
-                    error: e,
-                });
-                continue;
-            }
-        };
-        let se = s.mean_std_error();
-        rows.push(PixelRow {
-            estimator: spec.label(),
-            primitive: spec.primitive,
-            length: spec.length,
-            pdf: spec.pdf,
-            sampler: spec.sampler,
-            n,
-            realisations: s.count(),
-            mean: s.mean(),
-            bias_z: (s.mean() - reference.value) / (se * se + reference.se * reference.se).sqrt(),
-            variance: s.variance(),
-            variance_se: s.variance_std_error(),
-            seconds_per_estimate: c.seconds_per_estimate,
-            predicted_variance: predicted[i - 1],
-            error: String::new(),
-        });
-    }
+    let (predicted, mj_spectrum) = predictions(exp, &cells);
     let nn = cfg.ns.len();
+    let rows: Vec<PixelRow> = stats
+        .iter()
+        .enumerate()
+        .map(|(i, r)| {
+            let spec = cfg.rows[i / nn];
+            PixelRow {
+                estimator: spec.label(),
+                primitive: spec.primitive,
+                length: spec.length,
+                pdf: spec.pdf,
+                sampler: spec.sampler,
+                n: r.n,
+                realisations: r.realisations,
+                mean: r.mean,
+                bias_z: r.bias_z,
+                variance: r.variance,
+                variance_se: r.variance_se,
+                seconds_per_estimate: r.seconds,
+                predicted_variance: predicted[i],
+                error: r.error.clone().unwrap_or_default(),
+            }
+        })
+        .collect();
     let mut var_max = Vec::new();
     let n_max = cfg.ns.iter().copied().max().unwrap_or(1);
     let mut slopes = Vec::new();
     let mut series = Vec::new();
     for (k, spec) in cfg.rows.iter().enumerate() {
-        let rs = &rows[k * nn..(k + 1) * nn];
-        let errors: Vec<&str> = rs
-            .iter()
-            .filter(|r| !r.error.is_empty())
-            .map(|r| r.error.as_str())
-            .collect();
-        let data: Vec<(f64, f64, f64)> = rs
-            .iter()
-            .map(|r| (r.n as f64, r.variance, r.variance_se))
-            .collect();
-        // A row with a failed cell is not fitted: its slope would mix N.
-        let fit = if errors.is_empty() {
-            fit_loglog(&data)
-        } else {
-            None
-        };
+        let rs = &stats[k * nn..(k + 1) * nn];
         let (th, lp, note) = theory(spec);
-        let last = rs
-            .last()
-            .map_or(f64::NAN, |r| r.seconds_per_estimate / r.n as f64);
-        // Var(N) = e^a N^b = (0.01 ref)^2  =>  N = ((0.01 ref)^2 e^-a)^(1/b);
-        // NaN for a row whose fit does not converge, and for an estimator
-        // of infinite variance (no rate to extrapolate).
-        let seconds_to_1pct = if th.is_nan() {
-            f64::NAN
-        } else {
-            n_to_target(fit.as_ref(), (0.01 * reference.value).powi(2)) * last
+        let theory = study::Theory {
+            slope: th,
+            log_power: lp,
+            note,
         };
-        let (last_slope, last_slope_se) = if nn >= 2 {
-            let (a, b) = (&rs[nn - 2], &rs[nn - 1]);
-            let l = (b.n as f64 / a.n as f64).ln();
-            (
-                (b.variance / a.variance).ln() / l,
-                ((a.variance_se / a.variance).powi(2) + (b.variance_se / b.variance).powi(2))
-                    .sqrt()
-                    / l,
-            )
-        } else {
-            (f64::NAN, f64::NAN)
-        };
-        let nan3 = (f64::NAN, f64::NAN, f64::NAN);
-        let (slope, lo, hi) = fit.map_or(nan3, |f| {
-            (
-                f.slope,
-                f.slope - 1.96 * f.slope_se,
-                f.slope + 1.96 * f.slope_se,
-            )
-        });
+        let fit = study::fit_row(rs, None, reference.value, th.is_nan());
+        let (slope, lo, hi) = fit.interval();
+        let errors: Vec<&str> = rs.iter().filter_map(|r| r.error.as_deref()).collect();
         slopes.push(SlopeRow {
             estimator: spec.label(),
             primitive: spec.primitive,
@@ -1317,43 +977,25 @@ pub fn complete_pixel(
             ci95_high: hi,
             theory: th,
             theory_log_power: lp,
-            theory_note: note,
-            seconds_to_1pct,
-            fit_chi2_dof: fit.map_or(f64::NAN, |f| f.chi2_dof),
-            last_slope,
-            last_slope_se,
-            verdict: if !errors.is_empty() {
-                "failed"
-            } else if fit.is_none() {
-                "no fit"
-            } else {
-                verdict(th, lp > 0, (slope, lo, hi), (last_slope, last_slope_se))
-            }
-            .into(),
+            verdict: study::row_verdict(rs, &fit, &theory).into(),
+            theory_note: theory.note,
+            seconds_to_1pct: fit.seconds_to_1pct,
+            fit_chi2_dof: fit.fit.map_or(f64::NAN, |f| f.chi2_dof),
+            last_slope: fit.last_slope,
+            last_slope_se: fit.last_slope_se,
             error: errors.join("; "),
         });
         var_max.push(rs[nn - 1].variance);
-        if let Some(f) = fit {
-            if spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines {
-                let (x0, x1) = (data[0].0, n_max as f64);
-                series.push(Series {
-                    label: spec.label(),
-                    points: data.clone(),
-                    predicted: rs
-                        .iter()
-                        .filter(|r| r.predicted_variance.is_finite())
-                        .map(|r| (r.n as f64, r.predicted_variance))
-                        .collect(),
-                    fit: Some(Line {
-                        a: f.intercept,
-                        slope: f.slope,
-                        log_power: 0,
-                        x0,
-                        x1,
-                    }),
-                    ..Series::default()
-                });
-            }
+        if fit.fit.is_some()
+            && (spec.pdf == CentrePdf::Uniform || spec.primitive == Primitive::Lines)
+        {
+            let mut s = study::convergence_series(spec.label(), rs, &fit);
+            s.predicted = rows[k * nn..(k + 1) * nn]
+                .iter()
+                .filter(|r| r.predicted_variance.is_finite())
+                .map(|r| (r.n as f64, r.predicted_variance))
+                .collect();
+            series.push(s);
         }
     }
     let (x, y) = cfg.pixel;
@@ -1476,21 +1118,29 @@ pub fn complete_pixel(
         }
         crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
     }
-    let failed: Vec<&str> = rows
-        .iter()
-        .filter(|r| !r.error.is_empty())
-        .map(|r| r.error.as_str())
-        .collect();
-    if failed.is_empty() {
-        Ok(())
-    } else {
-        Err(format!(
-            "{} cell(s) of the pixel study failed (the other rows are in {}): {}",
-            failed.len(),
-            dir.join(format!("{stem}.json")).display(),
-            failed.join("; ")
-        ))
+    let failed: Vec<String> = stats.iter().filter_map(|r| r.error.clone()).collect();
+    study::no_failures("pixel study", &failed, &dir.join(format!("{stem}.json")))
+}
+
+/// The spectral predictions of the measured rows (row-major, NaN where
+/// none) and the drawn multi-jittered spectrum, from the prediction cells.
+fn predictions<'a>(exp: &PixelStudy, cells: &'a [PixelCell]) -> (Vec<f64>, Option<&'a Vec<f64>>) {
+    let cfg = &exp.config;
+    let measured = exp.layout.len();
+    let mut predicted = vec![f64::NAN; measured - 1];
+    let mut mj_spectrum = None;
+    for (j, c) in cells.iter().enumerate().skip(measured) {
+        let job = exp.jobs[j - measured];
+        for &(k, v) in &c.predictions {
+            if let Some(i) = cfg.ns.iter().position(|&n| n == job.n) {
+                predicted[k * cfg.ns.len() + i] = v;
+            }
+        }
+        if !c.periodogram.is_empty() {
+            mj_spectrum = Some(&c.periodogram);
+        }
     }
+    (predicted, mj_spectrum)
 }
 
 /// `log10` of a positive value as a grey level in `[lo, hi]` decades, as RGB.
