@@ -108,6 +108,35 @@ impl fmt::Display for SceneError {
 
 impl std::error::Error for SceneError {}
 
+/// A scene file as read, so that a resumed run refuses a changed file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SceneSource {
+    pub path: String,
+    pub text: String,
+}
+
+impl SceneSource {
+    /// Reads the file at `path`.
+    ///
+    /// # Errors
+    /// The file cannot be read.
+    pub fn read(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(SceneSource {
+            path: path.display().to_string(),
+            text,
+        })
+    }
+
+    /// The checked scene (camera effects).
+    ///
+    /// # Errors
+    /// The scene file's error.
+    pub fn scene(&self) -> Result<Scene, String> {
+        parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    }
+}
+
 /// A pinhole camera (pbrt's `LookAt` and `perspective` conventions: pixel
 /// `(0, 0)` is the top left, the ray of pixel `(x, y)` goes through its
 /// centre).

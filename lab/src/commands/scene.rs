@@ -41,6 +41,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
         .unwrap_or_else(|| PathBuf::from("out/scene").join(stem));
     let opts = a.run.options();
     let shift = a.run.shift_or(ShiftMode::Random);
+    let image_shift = a.run.shift.shift;
     if let Some((x, y)) = a.pixel {
         let mut rows = all_rows(&scene);
         if let Some(samplers) = &a.samplers {
@@ -87,7 +88,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
         width,
         height,
         seed: a.run.seed,
-        shift,
+        shift: image_shift,
         n: a.n,
         ladder: lad,
         estimators,

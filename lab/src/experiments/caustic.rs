@@ -455,27 +455,6 @@ pub fn consistent(lo: f64, hi: f64, a: f64, b: f64) -> bool {
     lo - SLOPE_SLACK <= b && hi + SLOPE_SLACK >= a
 }
 
-/// A row of `OUT/study/rows.csv`.
-#[derive(Serialize)]
-struct Row {
-    estimator: &'static str,
-    sampler: &'static str,
-    n: usize,
-    realisations: u64,
-    #[serde(serialize_with = "table::sci")]
-    mean: f64,
-    #[serde(serialize_with = "table::sci")]
-    bias_z: f64,
-    #[serde(serialize_with = "table::sci")]
-    variance: f64,
-    #[serde(serialize_with = "table::sci")]
-    variance_se: f64,
-    #[serde(serialize_with = "table::sci")]
-    seconds_per_estimate: f64,
-    /// Why the cell has no statistics (empty when it has).
-    error: String,
-}
-
 /// A row of `OUT/caustics.csv`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CausticsRow {
@@ -553,18 +532,13 @@ pub fn complete_study(
     for (e, &(est, sampler)) in cfg.rows.iter().enumerate() {
         let rs = &stats[e * nn..(e + 1) * nn];
         for r in rs {
-            rows.push(Row {
-                estimator: est.name(),
-                sampler: sampler.name(),
-                n: r.n,
-                realisations: r.realisations,
-                mean: r.mean,
-                bias_z: r.bias_z,
-                variance: r.variance,
-                variance_se: r.variance_se,
-                seconds_per_estimate: r.seconds,
-                error: r.error.clone().unwrap_or_default(),
-            });
+            rows.push(study::RowRecord::new(
+                "Q",
+                None,
+                est.name(),
+                sampler.name(),
+                r,
+            ));
             failed.extend(r.error.clone());
         }
         // The headline fit: the largest TAIL values of N, where the strata
@@ -671,11 +645,7 @@ fn reproduce(cfg: &StudyConfig) -> String {
         "linesample-lab scene {} --pixel-n {} --realisations {} --reference-lines {} \
          --reference-realisations {} --seed {}",
         cfg.source.path,
-        cfg.ns
-            .iter()
-            .map(ToString::to_string)
-            .collect::<Vec<_>>()
-            .join(","),
+        study::list(&cfg.ns),
         cfg.realisations,
         cfg.reference_beams,
         cfg.reference_realisations,

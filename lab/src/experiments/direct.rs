@@ -46,7 +46,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::experiments::images;
 use crate::experiments::images::rgb_png;
-use crate::experiments::scene::SceneSource;
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Multi};
@@ -54,10 +53,11 @@ use crate::fit::fit_sci;
 use crate::io::{self, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
+use crate::scene::SceneSource;
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
-use crate::streams::{stream_rows, Part, Stream};
+use crate::streams::{Part, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene-direct";
@@ -689,25 +689,9 @@ pub fn estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
 
 // ---------------------------------------------------------------- images
 
-/// The image run, every parameter resolved.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ImagesConfig {
-    pub source: SceneSource,
-    pub width: u32,
-    pub height: u32,
-    pub seed: u64,
-    /// The equal-samples `N`.
-    pub n: usize,
-    /// The `N` of every rendered image.
-    pub ladder: Vec<usize>,
-    pub estimators: Vec<DlEstimator>,
-    pub variance_realisations: u64,
-    pub reference_lines: usize,
-    pub reference_realisations: u64,
-    pub rows_per_cell: u32,
-    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
-    pub shift: Option<ShiftMode>,
-}
+/// The image run, every parameter resolved (`shift`: `--shift`; `None`:
+/// Sobol′ shifted, the others not; [`scene_shift`]).
+pub type ImagesConfig = images::ImagesConfig<DlEstimator>;
 
 /// One block of rows ([`images::ImagesCell`]; its `extra` is the fraction
 /// of the light hidden by occluders, [`DlWorld::hidden_fraction`] with 64
@@ -715,75 +699,41 @@ pub struct ImagesConfig {
 pub type ImagesCell = images::ImagesCell;
 
 /// The image experiment.
-pub struct Images {
-    config: ImagesConfig,
-    world: DlWorld,
-    twin: Vec<usize>,
-    cells: Vec<CellInfo>,
-}
+pub type Images = images::Images<DlWorld>;
 
-impl Images {
-    /// The experiment of `config`.
-    ///
-    /// # Errors
-    /// A scene that no longer parses, or geometry the kernel refuses.
-    pub fn new(config: ImagesConfig) -> Result<Self, String> {
-        let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
-        let cells = images::row_blocks(config.width, config.height, config.rows_per_cell);
-        let twin = stream_rows(&config.estimators, |e| DlEstimator { simd: false, ..e });
-        Ok(Images {
-            config,
-            world,
-            twin,
-            cells,
-        })
-    }
-
-    fn grid(&self) -> images::Grid<'_> {
-        let c = &self.config;
-        images::Grid {
-            width: c.width,
-            height: c.height,
-            seed: c.seed,
-            n: c.n,
-            ladder: &c.ladder,
-            variance_realisations: c.variance_realisations,
-            reference_lines: c.reference_lines,
-            reference_realisations: c.reference_realisations,
-            rows_per_cell: c.rows_per_cell,
-        }
-    }
-}
-
-impl images::ImageEffect for Images {
+impl images::ImageWorld for DlWorld {
+    type Estimator = DlEstimator;
     type Pixel = DlPixel;
     type Plan = (DlEstimator, Pattern);
     type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
+    const KIND: &'static str = KIND;
+    const EFFECT: EffectKind = EffectKind::DirectLight;
 
-    fn stream(&self, x: u32, y: u32) -> Stream {
-        stream(Part::Image).pixel(x, y, self.config.width)
+    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+        DlWorld::new(scene, width, height)
+    }
+
+    fn twin(e: DlEstimator) -> DlEstimator {
+        DlEstimator { simd: false, ..e }
     }
 
     fn pixel(&self, x: u32, y: u32) -> Option<DlPixel> {
-        match self.world.pixel(x, y) {
+        match DlWorld::pixel(self, x, y) {
             Some(Seen::Surface(px)) => Some(*px),
             _ => None,
         }
     }
 
-    fn estimators(&self) -> usize {
-        self.config.estimators.len()
-    }
-
-    fn twin(&self, e: usize) -> usize {
-        self.twin[e]
-    }
-
-    fn plan(&self, e: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+    fn plan(
+        &self,
+        est: Option<&DlEstimator>,
+        n: usize,
+        shift: Option<ShiftMode>,
+    ) -> Result<Self::Plan, String> {
         // The reference is never shifted (jittered lines along an edge).
-        let (est, shift) = match e {
+        let (est, shift) = match est {
             None => (REFERENCE, None),
-            Some(e) => (self.config.estimators[e], self.config.shift),
+            Some(e) => (*e, shift),
         };
         Ok((est, Pattern::new(&est, n, shift)?))
     }
@@ -799,30 +749,11 @@ impl images::ImageEffect for Images {
         seed: Seed,
         (vals, one, scratch): &mut Self::Scratch,
     ) -> Result<f64, String> {
-        one_estimate(&self.world, px, est, pattern, seed, vals, one, scratch)
+        one_estimate(self, px, est, pattern, seed, vals, one, scratch)
     }
 
     fn extra(&self, px: &DlPixel) -> Result<Option<f32>, String> {
-        Ok(Some(self.world.hidden_fraction(px, 64)? as f32))
-    }
-}
-
-impl Experiment for Images {
-    type Config = ImagesConfig;
-    type Cell = ImagesCell;
-    const KIND: &'static str = KIND;
-    const UNIT: &'static str = "pixels";
-
-    fn config(&self) -> &ImagesConfig {
-        &self.config
-    }
-
-    fn cells(&self) -> &[CellInfo] {
-        &self.cells
-    }
-
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
-        images::run_cell(self, &self.grid(), index, ctx)
+        Ok(Some(self.hidden_fraction(px, 64)? as f32))
     }
 }
 
@@ -1143,13 +1074,13 @@ pub fn complete_images(
     dir: &Path,
     quiet: bool,
 ) -> Result<Option<Chosen>, String> {
-    let cfg = &exp.config;
+    let cfg = exp.config();
     let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
     let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
     let all = images::assemble(cells, (w * h) as usize)?;
     let hidden = &all.extra;
-    let tone = Tone::new(&exp.world, w, h, &all.reference);
+    let tone = Tone::new(exp.world(), w, h, &all.reference);
     let at_n = grid.at_n().unwrap_or(0);
     // Variance images share one log scale (the reference's squared mean
     // level down 8 decades).
@@ -1202,7 +1133,7 @@ pub fn complete_images(
     if let (Some(a), Some(b)) = (e1, e2) {
         chosen = choose(&all.variance[a], &all.variance[b], hidden, w);
         if let Some(c) = chosen.as_mut() {
-            [c.parallel1, c.parallel2] = parallels(&exp.world, hidden, w, h);
+            [c.parallel1, c.parallel2] = parallels(exp.world(), hidden, w, h);
         }
         let map = orientation_map(&all.variance[a], &all.variance[b], chosen.as_ref(), w, h);
         add_png(&mut group, "orientation-map.png".into(), &map)?;
@@ -1417,30 +1348,6 @@ impl Experiment for PixelStudy {
     }
 }
 
-/// A row of `OUT/pixels/rows.csv`.
-#[derive(Serialize)]
-struct Row {
-    pixel: String,
-    x: u32,
-    y: u32,
-    estimator: String,
-    sampler: String,
-    n: usize,
-    realisations: u64,
-    #[serde(serialize_with = "table::sci")]
-    mean: f64,
-    #[serde(serialize_with = "table::sci")]
-    bias_z: f64,
-    #[serde(serialize_with = "table::sci")]
-    variance: f64,
-    #[serde(serialize_with = "table::sci")]
-    variance_se: f64,
-    #[serde(serialize_with = "table::sci")]
-    seconds_per_estimate: f64,
-    /// Why the cell has no statistics (empty when it has).
-    error: String,
-}
-
 /// A row of `OUT/orientation.csv`.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct OrientationRow {
@@ -1507,21 +1414,8 @@ pub fn complete_pixels(
         for (e, est) in cfg.estimators.iter().enumerate() {
             let rs = &stats[e * nn..(e + 1) * nn];
             for r in rs {
-                rows.push(Row {
-                    pixel: label.clone(),
-                    x: *x,
-                    y: *y,
-                    estimator: est.name(),
-                    sampler: est.sampler.name().into(),
-                    n: r.n,
-                    realisations: r.realisations,
-                    mean: r.mean,
-                    bias_z: r.bias_z,
-                    variance: r.variance,
-                    variance_se: r.variance_se,
-                    seconds_per_estimate: r.seconds,
-                    error: r.error.clone().unwrap_or_default(),
-                });
+                let (e, s) = (est.name(), est.sampler.name());
+                rows.push(study::RowRecord::new(label, Some((*x, *y)), &e, s, r));
                 failed.extend(r.error.clone());
             }
             let fit = study::fit_row(rs, None, rv, false);
@@ -1619,11 +1513,7 @@ fn reproduce_pixels(cfg: &PixelConfig) -> String {
         cfg.source.path,
         cfg.width,
         cfg.height,
-        cfg.ns
-            .iter()
-            .map(ToString::to_string)
-            .collect::<Vec<_>>()
-            .join(","),
+        study::list(&cfg.ns),
         cfg.realisations,
         cfg.seed,
         px.join(" ")

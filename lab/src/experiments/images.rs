@@ -4,7 +4,7 @@
 //! equal-samples `N`; then one assembly (images, equal time, `images.csv`
 //! rows, the sheet) whatever the effect.
 //!
-//! An effect says only what is its own ([`ImageEffect`]): its pixels, the
+//! An effect says only what is its own ([`ImageWorld`]): its pixels, the
 //! pattern of an estimator at `N`, one estimate, and its colours. Cells
 //! are blocks of rows ([`row_blocks`]). Streams: the reference of pixel
 //! `(x, y)` draws `(effect, dims, image-reference, y·W + x, 0, 0)`,
@@ -12,40 +12,59 @@
 //! where `twin(e)` is the row of `e`'s `f64` twin (an `f32` SIMD row draws
 //! the numbers of its twin, so their difference is the rounding alone).
 
-use std::fmt::Write as _;
+use std::fmt::{self, Write as _};
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
 use linesample::Seed;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::figures::image::{self, Color};
 use crate::io::{buffer, table};
-use crate::runner::{CellInfo, Ctx};
-use crate::streams::{Part, Realisations, Stream};
+use crate::runner::{CellInfo, Ctx, Experiment};
+use crate::scene::{EffectKind, Scene, SceneSource};
+use crate::spec::ShiftMode;
+use crate::streams::{stream_rows, Part, Realisations, Stream};
 
-/// What an image run needs from its effect.
-pub trait ImageEffect: Sync {
+/// What an image run needs from its effect: its world built from the
+/// scene, its pixels, the pattern of an estimator at `N`, one estimate,
+/// and (optionally) a per-pixel quantity kept beside the images.
+pub trait ImageWorld: Sized + Sync {
+    /// One estimator of the images (with its sampler).
+    type Estimator: Copy + PartialEq + fmt::Debug + Serialize + DeserializeOwned + Send + Sync;
     /// A shading point.
     type Pixel;
     /// An estimator's pattern at one `N`.
     type Plan;
     /// Per-cell buffers.
     type Scratch;
+    /// The experiment's name (its state folder's kind).
+    const KIND: &'static str;
+    /// The effect, the first component of every stream.
+    const EFFECT: EffectKind;
 
-    /// The base stream of pixel `(x, y)` (its part is set per use).
-    fn stream(&self, x: u32, y: u32) -> Stream;
+    /// The world of `scene` seen at `width × height`.
+    ///
+    /// # Errors
+    /// Geometry the kernel refuses.
+    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String>;
+    /// The estimator whose stream `e` draws: itself, or for an `f32` SIMD
+    /// row its `f64` twin (their difference is then the rounding alone).
+    fn twin(e: Self::Estimator) -> Self::Estimator;
     /// The shading point of pixel `(x, y)`, if the pixel is estimated.
     fn pixel(&self, x: u32, y: u32) -> Option<Self::Pixel>;
-    /// The number of estimators.
-    fn estimators(&self) -> usize;
-    /// The row whose stream estimator `e` draws (itself, or its `f64` twin).
-    fn twin(&self, e: usize) -> usize;
-    /// The pattern of estimator `e` at `n` (`None`: the reference's).
+    /// The pattern of `est` at `n` (`None`: the reference's) with
+    /// `--shift` `shift`.
     ///
     /// # Errors
     /// A count the sampler cannot make.
-    fn plan(&self, e: Option<usize>, n: usize) -> Result<Self::Plan, String>;
+    fn plan(
+        &self,
+        est: Option<&Self::Estimator>,
+        n: usize,
+        shift: Option<ShiftMode>,
+    ) -> Result<Self::Plan, String>;
     /// Fresh buffers.
     fn scratch(&self) -> Self::Scratch;
     /// One estimate with `plan` at `px` from realisation `seed`.
@@ -67,6 +86,94 @@ pub trait ImageEffect: Sync {
     fn extra(&self, px: &Self::Pixel) -> Result<Option<f32>, String> {
         let _ = px;
         Ok(None)
+    }
+}
+
+/// An image run, every parameter resolved.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(bound = "E: Serialize + DeserializeOwned")]
+pub struct ImagesConfig<E> {
+    pub source: SceneSource,
+    pub width: u32,
+    pub height: u32,
+    pub seed: u64,
+    /// The equal-samples `N` (on the ladder).
+    pub n: usize,
+    /// The `N` of every rendered image (each estimator).
+    pub ladder: Vec<usize>,
+    pub estimators: Vec<E>,
+    pub variance_realisations: u64,
+    pub reference_lines: usize,
+    pub reference_realisations: u64,
+    pub rows_per_cell: u32,
+    /// `--shift` (`None`: the effect's default).
+    pub shift: Option<ShiftMode>,
+}
+
+/// The image experiment of an effect.
+pub struct Images<W: ImageWorld> {
+    config: ImagesConfig<W::Estimator>,
+    world: W,
+    twin: Vec<usize>,
+    cells: Vec<CellInfo>,
+}
+
+impl<W: ImageWorld> Images<W> {
+    /// The experiment of `config`.
+    ///
+    /// # Errors
+    /// A scene that no longer parses, or geometry the kernel refuses.
+    pub fn new(config: ImagesConfig<W::Estimator>) -> Result<Self, String> {
+        let world = W::new(config.source.scene()?, config.width, config.height)?;
+        let cells = row_blocks(config.width, config.height, config.rows_per_cell);
+        let twin = stream_rows(&config.estimators, W::twin);
+        Ok(Images {
+            config,
+            world,
+            twin,
+            cells,
+        })
+    }
+
+    /// The world.
+    pub fn world(&self) -> &W {
+        &self.world
+    }
+
+    /// The sizes of the run.
+    #[must_use]
+    pub fn grid(&self) -> Grid<'_> {
+        let c = &self.config;
+        Grid {
+            width: c.width,
+            height: c.height,
+            seed: c.seed,
+            n: c.n,
+            ladder: &c.ladder,
+            variance_realisations: c.variance_realisations,
+            reference_lines: c.reference_lines,
+            reference_realisations: c.reference_realisations,
+            rows_per_cell: c.rows_per_cell,
+        }
+    }
+}
+
+impl<W: ImageWorld> Experiment for Images<W> {
+    type Config = ImagesConfig<W::Estimator>;
+    type Cell = ImagesCell;
+    const KIND: &'static str = W::KIND;
+    const UNIT: &'static str = "pixels";
+
+    fn config(&self) -> &Self::Config {
+        &self.config
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
+        run_cell(self, index, ctx)
     }
 }
 
@@ -138,26 +245,26 @@ fn nan_images(k: usize, count: usize, what: &str) -> Result<Vec<Vec<f32>>, Strin
         .collect()
 }
 
-/// Computes cell `index` (a block of rows) of `effect`'s images.
+/// Computes cell `index` (a block of rows) of `exp`'s images.
 ///
 /// # Errors
-/// A pattern or kernel error, naming nothing more than the kernel does.
-pub fn run_cell<E: ImageEffect>(
-    effect: &E,
-    grid: &Grid<'_>,
+/// A pattern or kernel error.
+fn run_cell<W: ImageWorld>(
+    exp: &Images<W>,
     index: usize,
     ctx: &Ctx<'_>,
 ) -> Result<ImagesCell, String> {
+    let (cfg, world, grid) = (&exp.config, &exp.world, exp.grid());
     let rows = grid.rows_per_cell.max(1);
     let y0 = index as u32 * rows;
     let y1 = (y0 + rows).min(grid.height);
     let count = ((y1 - y0) * grid.width) as usize;
-    let (ne, nl) = (effect.estimators(), grid.ladder.len());
-    let reference = effect.plan(None, grid.reference_lines)?;
+    let (ne, nl) = (cfg.estimators.len(), grid.ladder.len());
+    let reference = world.plan(None, grid.reference_lines, cfg.shift)?;
     let mut plans = Vec::with_capacity(ne * nl);
-    for e in 0..ne {
+    for e in &cfg.estimators {
         for &n in grid.ladder {
-            plans.push(effect.plan(Some(e), n)?);
+            plans.push(world.plan(Some(e), n, cfg.shift)?);
         }
     }
     let at_n = grid.at_n()?;
@@ -169,14 +276,14 @@ pub fn run_cell<E: ImageEffect>(
         variance: nan_images(ne, count, "a variance image")?,
         seconds: vec![0.0; ne * nl],
     };
-    let mut scratch = effect.scratch();
+    let mut scratch = world.scratch();
     for y in y0..y1 {
         for x in 0..grid.width {
             let p = ((y - y0) * grid.width + x) as usize;
-            let Some(px) = effect.pixel(x, y) else {
+            let Some(px) = world.pixel(x, y) else {
                 continue;
             };
-            let base = effect.stream(x, y);
+            let base = Stream::new(W::EFFECT, 3, Part::Image).pixel(x, y, grid.width);
             let mut rs = RunningStats::new();
             let seeds = Realisations::of(
                 &Stream {
@@ -186,11 +293,11 @@ pub fn run_cell<E: ImageEffect>(
                 grid.seed,
             );
             for r in 0..grid.reference_realisations {
-                rs.push(effect.estimate(&px, &reference, seeds.at(r), &mut scratch)?);
+                rs.push(world.estimate(&px, &reference, seeds.at(r), &mut scratch)?);
             }
             cell.reference[p] = rs.mean() as f32;
             cell.reference_se[p] = rs.mean_std_error() as f32;
-            if let Some(v) = effect.extra(&px)? {
+            if let Some(v) = world.extra(&px)? {
                 if cell.extra.is_empty() {
                     cell.extra = buffer::filled(count, f32::NAN, "a per-pixel image")?;
                 }
@@ -199,21 +306,16 @@ pub fn run_cell<E: ImageEffect>(
             for e in 0..ne {
                 for (l, &n) in grid.ladder.iter().enumerate() {
                     let k = e * nl + l;
-                    let stream = Stream {
-                        part: Part::Image,
-                        ..base
-                    }
-                    .row(effect.twin(e), n);
-                    let seeds = Realisations::of(&stream, grid.seed);
+                    let seeds = Realisations::of(&base.row(exp.twin[e], n), grid.seed);
                     let t = Instant::now();
-                    let v = effect.estimate(&px, &plans[k], seeds.at(0), &mut scratch)?;
+                    let v = world.estimate(&px, &plans[k], seeds.at(0), &mut scratch)?;
                     cell.seconds[k] += t.elapsed().as_secs_f64();
                     cell.images[k][p] = v as f32;
                     if l == at_n {
                         let mut vs = RunningStats::new();
                         vs.push(v);
                         for r in 1..grid.variance_realisations {
-                            vs.push(effect.estimate(&px, &plans[k], seeds.at(r), &mut scratch)?);
+                            vs.push(world.estimate(&px, &plans[k], seeds.at(r), &mut scratch)?);
                         }
                         cell.variance[e][p] = vs.variance() as f32;
                     }

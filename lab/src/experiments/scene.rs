@@ -52,7 +52,7 @@ use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::scene::{self, CentrePdf, Primitive, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
-use crate::streams::{stream_rows, Part, Stream};
+use crate::streams::{Part, Stream};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene";
@@ -126,118 +126,53 @@ fn stream(part: Part) -> Stream {
     Stream::new(scene::EffectKind::AmbientOcclusion, 3, part)
 }
 
-/// The scene file as read, so that a resumed run refuses a changed file.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SceneSource {
-    pub path: String,
-    pub text: String,
-}
-
-impl SceneSource {
-    /// The checked scene.
-    ///
-    /// # Errors
-    /// The scene file's error.
-    pub fn scene(&self) -> Result<Scene, String> {
-        scene::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
-    }
-}
+pub use crate::scene::SceneSource;
 
 // ---------------------------------------------------------------- images
 
-/// The image run, every parameter resolved.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct ImagesConfig {
-    pub source: SceneSource,
-    pub width: u32,
-    pub height: u32,
-    pub seed: u64,
-    pub shift: ShiftMode,
-    /// The equal-samples `N`.
-    pub n: usize,
-    /// The `N` of every rendered image (each estimator).
-    pub ladder: Vec<usize>,
-    /// The estimators of the images (one sampler and density).
-    pub estimators: Vec<EstimatorSpec>,
-    pub variance_realisations: u64,
-    pub reference_lines: usize,
-    pub reference_realisations: u64,
-    pub rows_per_cell: u32,
-}
+/// The image run, every parameter resolved (`shift`: `None` or `random`
+/// shift every pattern, `none` none).
+pub type ImagesConfig = images::ImagesConfig<EstimatorSpec>;
 
 /// One block of rows ([`images::ImagesCell`]).
 pub type ImagesCell = images::ImagesCell;
 
 /// The image experiment.
-pub struct Images {
-    config: ImagesConfig,
-    world: World,
-    twin: Vec<usize>,
-    cells: Vec<CellInfo>,
-}
+pub type Images = images::Images<World>;
 
-impl Images {
-    /// The experiment of `config`.
-    ///
-    /// # Errors
-    /// A scene that no longer parses or a sphere the kernel refuses.
-    pub fn new(config: ImagesConfig) -> Result<Self, String> {
-        let world = World::new(config.source.scene()?, config.width, config.height)?;
-        let cells = images::row_blocks(config.width, config.height, config.rows_per_cell);
-        let twin = stream_rows(&config.estimators, |e| EstimatorSpec { simd: false, ..e });
-        Ok(Images {
-            config,
-            world,
-            twin,
-            cells,
-        })
-    }
-
-    fn grid(&self) -> images::Grid<'_> {
-        let c = &self.config;
-        images::Grid {
-            width: c.width,
-            height: c.height,
-            seed: c.seed,
-            n: c.n,
-            ladder: &c.ladder,
-            variance_realisations: c.variance_realisations,
-            reference_lines: c.reference_lines,
-            reference_realisations: c.reference_realisations,
-            rows_per_cell: c.rows_per_cell,
-        }
-    }
-}
-
-impl images::ImageEffect for Images {
+impl images::ImageWorld for World {
+    type Estimator = EstimatorSpec;
     type Pixel = Pixel;
     type Plan = (EstimatorSpec, Offsets);
     type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
+    const KIND: &'static str = KIND;
+    const EFFECT: scene::EffectKind = scene::EffectKind::AmbientOcclusion;
 
-    fn stream(&self, x: u32, y: u32) -> Stream {
-        stream(Part::Image).pixel(x, y, self.config.width)
+    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+        World::new(scene, width, height)
+    }
+
+    fn twin(e: EstimatorSpec) -> EstimatorSpec {
+        EstimatorSpec { simd: false, ..e }
     }
 
     fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
-        self.world.pixel(x, y)
+        World::pixel(self, x, y)
     }
 
-    fn estimators(&self) -> usize {
-        self.config.estimators.len()
-    }
-
-    fn twin(&self, e: usize) -> usize {
-        self.twin[e]
-    }
-
-    fn plan(&self, e: Option<usize>, n: usize) -> Result<Self::Plan, String> {
-        let spec = e.map_or(REFERENCE, |e| self.config.estimators[e]);
-        let offsets = Offsets::new(&spec, n, self.config.shift == ShiftMode::Random)?;
+    fn plan(
+        &self,
+        est: Option<&EstimatorSpec>,
+        n: usize,
+        shift: Option<ShiftMode>,
+    ) -> Result<Self::Plan, String> {
+        let spec = est.copied().unwrap_or(REFERENCE);
+        let offsets = Offsets::new(&spec, n, shift != Some(ShiftMode::None))?;
         Ok((spec, offsets))
     }
 
     fn scratch(&self) -> Self::Scratch {
-        (self.world.scratch(), Vec::new())
+        (World::scratch(self), Vec::new())
     }
 
     fn estimate(
@@ -248,26 +183,7 @@ impl images::ImageEffect for Images {
         (scratch, uv): &mut Self::Scratch,
     ) -> Result<f64, String> {
         offsets.fill(seed, uv)?;
-        self.world.estimate(px, spec, uv, scratch)
-    }
-}
-
-impl Experiment for Images {
-    type Config = ImagesConfig;
-    type Cell = ImagesCell;
-    const KIND: &'static str = KIND;
-    const UNIT: &'static str = "pixels";
-
-    fn config(&self) -> &ImagesConfig {
-        &self.config
-    }
-
-    fn cells(&self) -> &[CellInfo] {
-        &self.cells
-    }
-
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
-        images::run_cell(self, &self.grid(), index, ctx)
+        World::estimate(self, px, spec, uv, scratch)
     }
 }
 
@@ -317,7 +233,7 @@ pub fn complete_images(
     dir: &Path,
     quiet: bool,
 ) -> Result<(), String> {
-    let cfg = &exp.config;
+    let cfg = exp.config();
     let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
     let (ne, nl) = (cfg.estimators.len(), cfg.ladder.len());
@@ -425,7 +341,7 @@ fn reproduce_images(cfg: &ImagesConfig) -> String {
         cfg.reference_lines,
         cfg.reference_realisations,
         cfg.seed,
-        if cfg.shift == ShiftMode::None {
+        if cfg.shift == Some(ShiftMode::None) {
             " --shift none"
         } else {
             ""
@@ -1264,11 +1180,7 @@ fn reproduce_pixel(cfg: &PixelConfig) -> String {
         cfg.pixel.1,
         cfg.width,
         cfg.height,
-        cfg.ns
-            .iter()
-            .map(ToString::to_string)
-            .collect::<Vec<_>>()
-            .join(","),
+        study::list(&cfg.ns),
         cfg.realisations,
         cfg.reference_lines,
         cfg.reference_realisations,
@@ -1279,15 +1191,9 @@ fn reproduce_pixel(cfg: &PixelConfig) -> String {
 // ---------------------------------------------------------------- entry
 
 pub(crate) fn read_source(path: &Path) -> Result<(SceneSource, Scene), String> {
-    let scene = scene::load(path).map_err(|e| e.to_string())?;
-    let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    Ok((
-        SceneSource {
-            path: path.display().to_string(),
-            text,
-        },
-        scene,
-    ))
+    let source = SceneSource::read(path)?;
+    let scene = source.scene()?;
+    Ok((source, scene))
 }
 
 /// Every estimator row of a scene: its primitives × segment lengths ×
@@ -1433,7 +1339,7 @@ pub fn paper_runs(
         width: res,
         height: res,
         seed,
-        shift: ShiftMode::Random,
+        shift: Some(ShiftMode::Random),
         n,
         ladder: ladder(SceneSampler::MultiJittered, 4 * n),
         estimators,

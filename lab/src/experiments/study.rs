@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::figures::multi::{Line, Series};
 use crate::fit::{fit_loglog, n_to_target, Fit};
+use crate::io::table;
 use crate::runner::{CellInfo, Ctx};
 use crate::streams::{Part, Realisations, Stream};
 
@@ -383,6 +384,71 @@ pub fn analyse(
         }
     }
     Ok((reference, rows))
+}
+
+/// A row of a study's `rows.csv`: one estimator at one `N` at one query.
+#[derive(Clone, Debug, Serialize)]
+pub struct RowRecord {
+    /// The query's label (`A`, `B`, `P1`, `P2`, `P` for `--pixel`, `Q`
+    /// for the caustic's query ball).
+    pub query: String,
+    /// The pixel (empty for a query that is not a pixel).
+    pub x: Option<u32>,
+    pub y: Option<u32>,
+    pub estimator: String,
+    pub sampler: String,
+    pub n: usize,
+    pub realisations: u64,
+    #[serde(serialize_with = "table::sci")]
+    pub mean: f64,
+    #[serde(serialize_with = "table::sci")]
+    pub bias_z: f64,
+    #[serde(serialize_with = "table::sci")]
+    pub variance: f64,
+    #[serde(serialize_with = "table::sci")]
+    pub variance_se: f64,
+    #[serde(serialize_with = "table::sci")]
+    pub seconds_per_estimate: f64,
+    /// Why the cell has no statistics (empty when it has).
+    pub error: String,
+}
+
+impl RowRecord {
+    /// The record of `r` for `estimator` with `sampler` at `query`
+    /// (`pixel`: its coordinates, if it is one).
+    #[must_use]
+    pub fn new(
+        query: &str,
+        pixel: Option<(u32, u32)>,
+        estimator: &str,
+        sampler: &str,
+        r: &RowStat,
+    ) -> Self {
+        RowRecord {
+            query: query.into(),
+            x: pixel.map(|p| p.0),
+            y: pixel.map(|p| p.1),
+            estimator: estimator.into(),
+            sampler: sampler.into(),
+            n: r.n,
+            realisations: r.realisations,
+            mean: r.mean,
+            bias_z: r.bias_z,
+            variance: r.variance,
+            variance_se: r.variance_se,
+            seconds_per_estimate: r.seconds,
+            error: r.error.clone().unwrap_or_default(),
+        }
+    }
+}
+
+/// `N1,N2,…` (a command line's list).
+#[must_use]
+pub fn list(ns: &[usize]) -> String {
+    ns.iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 /// `(N, variance, SE)` of a row.
