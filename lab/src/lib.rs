@@ -31,7 +31,7 @@
 //!   naming the line and column out).
 
 pub mod ao;
-pub mod caustic_scene;
+
 pub mod cli;
 pub mod commands;
 mod dims;

@@ -371,3 +371,69 @@ fn ao_by_lines_matches_cast_rays() {
     let v = scene::ao_lines(&spheres, 500.0, top, [0.0, 1.0, 0.0], &phis[..64]).unwrap();
     assert!((v - 1.0).abs() < 1e-12, "{v}");
 }
+
+/// Every table or field the scene's effect does not use is an error naming
+/// it (not silently ignored): AO takes no quad, box, light or line
+/// orientations; direct light no sphere, max-distance, primitives, pdfs or
+/// segment lengths. One parser entry reads every effect.
+#[test]
+fn fields_the_effect_does_not_use_are_errors() {
+    let ao = |extra: &str| format!("{GOOD}{extra}");
+    let quad = "[[quad]]\ncorner = [0.0, 0.0, 0.0]\nedge1 = [1.0, 0.0, 0.0]\n\
+                edge2 = [0.0, 1.0, 0.0]\nalbedo = [0.5, 0.5, 0.5]\n";
+    fails(
+        &ao(quad),
+        19,
+        "quad",
+        &["ambient-occlusion does not use it"],
+    );
+    let light = "[light]\ncorner = [0.0, 2.0, 0.0]\nedge1 = [1.0, 0.0, 0.0]\n\
+                 edge2 = [0.0, 0.0, 1.0]\nradiance = [1.0, 1.0, 1.0]\n";
+    fails(
+        &ao(light),
+        19,
+        "light",
+        &["ambient-occlusion does not use it"],
+    );
+    fails(
+        &ao("[estimators]\norientations = [\"edge1\"]\n"),
+        20,
+        "estimators.orientations",
+        &["ambient-occlusion does not use it"],
+    );
+    let dl_file = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell-box.toml");
+    let dl = std::fs::read_to_string(dl_file).unwrap();
+    let last = dl.lines().count();
+    for (field, line) in [
+        ("estimators.primitives", "primitives = [\"points\"]"),
+        ("estimators.pdfs", "pdfs = [\"cosine\"]"),
+        ("estimators.segment-lengths", "segment-lengths = [0.1]"),
+    ] {
+        fails(
+            &format!("{dl}{line}\n"),
+            last + 1,
+            field,
+            &["direct-light does not use it"],
+        );
+    }
+    let with_md = dl.replace(
+        "kind = \"direct-light\"",
+        "kind = \"direct-light\"\nmax-distance = 5.0",
+    );
+    let e = scene::parse(Path::new("x.toml"), &with_md).unwrap_err();
+    assert_eq!(e.field, "effect.max-distance", "{e}");
+    // One entry for every effect.
+    let caustic = concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/caustic-2d.toml");
+    let text = std::fs::read_to_string(caustic).unwrap();
+    assert!(matches!(
+        scene::parse_any(Path::new(caustic), &text).unwrap(),
+        scene::SceneFile::Caustic(c) if c.dims == 2
+    ));
+    assert!(matches!(
+        scene::parse_any(Path::new(dl_file), &dl).unwrap(),
+        scene::SceneFile::Camera(s) if s.effect == Effect::DirectLight
+    ));
+    let e =
+        scene::parse_any(Path::new("c.toml"), &format!("{text}[camera]\nfov = 1.0\n")).unwrap_err();
+    assert!(e.to_string().contains("camera"), "{e}");
+}

@@ -3,7 +3,7 @@
 use crate::cli::*;
 use crate::experiments::run_to_files;
 use crate::experiments::scene::*;
-use crate::scene::{Effect, SceneSampler};
+use crate::scene::{Effect, SceneFile, SceneSampler};
 use crate::spec::ShiftMode;
 use std::path::PathBuf;
 
@@ -14,12 +14,16 @@ use std::path::PathBuf;
 pub fn main(a: &SceneArgs) -> Result<(), String> {
     let text = std::fs::read_to_string(&a.file)
         .map_err(|e| format!("{}: cannot read it: {e}", a.file.display()))?;
-    if crate::scene::effect_kind(&a.file, &text).map_err(|e| e.to_string())?
-        == crate::scene::EffectKind::VolumetricCaustic
-    {
-        return crate::commands::scene_caustic::main(a, text);
-    }
-    let (source, scene) = read_source(&a.file)?;
+    let source = SceneSource {
+        path: a.file.display().to_string(),
+        text,
+    };
+    let scene = match source.any().map_err(|e| e.to_string())? {
+        SceneFile::Caustic(scene) => {
+            return crate::commands::scene_caustic::main(a, source, &scene)
+        }
+        SceneFile::Camera(scene) => scene,
+    };
     if scene.effect == Effect::DirectLight {
         let out = a
             .out

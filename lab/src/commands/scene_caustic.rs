@@ -1,20 +1,15 @@
 //! `linesample-lab scene` for volumetric-caustic scenes: the command line to the experiment's typed configuration.
 
-use crate::caustic_scene::{self};
 use crate::cli::*;
 use crate::experiments::caustic::*;
+use crate::scene::CausticScene;
 
-/// `linesample-lab scene FILE` for a volumetric-caustic scene whose file
-/// holds `text`.
+/// `linesample-lab scene FILE` for the volumetric-caustic scene `scene`
+/// read from `source`.
 ///
 /// # Errors
 /// A scene error, a bad option or a run error.
-pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
-    let scene = caustic_scene::parse(&a.file, &text).map_err(|e| e.to_string())?;
-    let source = CausticSource {
-        path: a.file.display().to_string(),
-        text,
-    };
+pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Result<(), String> {
     if a.pixel.is_some() {
         return Err("--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into());
     }

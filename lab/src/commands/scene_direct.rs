@@ -3,7 +3,7 @@
 use crate::cli::*;
 use crate::experiments::direct::*;
 use crate::experiments::run_to_files;
-use crate::experiments::scene::SceneSource;
+use crate::scene::SceneSource;
 use crate::scene::{Scene, SceneSampler};
 use std::path::Path;
 

@@ -41,7 +41,6 @@ use linesample_scene::caustic::{Caustic, PhotonPath};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::caustic_scene::{self, CausticScene};
 use crate::experiments::scene::rgb_png;
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
@@ -50,6 +49,7 @@ use crate::fit::fit_sci;
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
+use crate::scene::CausticScene;
 use crate::scene::{EffectKind, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::{scene_shift, ShiftMode};
@@ -92,21 +92,7 @@ impl Estimator {
 }
 
 /// The scene file as read (so a resumed run refuses a changed file).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CausticSource {
-    pub path: String,
-    pub text: String,
-}
-
-impl CausticSource {
-    /// The checked scene.
-    ///
-    /// # Errors
-    /// The scene file's error.
-    pub fn scene(&self) -> Result<CausticScene, String> {
-        caustic_scene::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
-    }
-}
+pub type CausticSource = crate::scene::SceneSource;
 
 /// The kernel scene in its dimension.
 #[derive(Clone, Copy, Debug)]
@@ -282,7 +268,7 @@ impl Study {
     /// # Errors
     /// A bad scene or a count a sampler cannot make.
     pub fn new(config: StudyConfig) -> Result<Self, String> {
-        let scene = config.source.scene()?;
+        let scene = config.source.caustic()?;
         let world = World::new(&scene)?;
         let dims = scene.dims;
         if config.ns.is_empty() || config.rows.is_empty() {
@@ -847,7 +833,7 @@ pub fn run_image(
     out: &Path,
     quiet: bool,
 ) -> Result<(), String> {
-    let scene = source.scene()?;
+    let scene = source.caustic()?;
     let world = World::new(&scene)?;
     let fl = &scene.fluence;
     let (w, h) = resolution.unwrap_or((fl.width, fl.height));

@@ -212,7 +212,7 @@ pub struct ImagesCell {
     pub reference: Vec<f32>,
     /// Its standard error.
     pub reference_se: Vec<f32>,
-    /// [`ImageEffect::extra`] per pixel (empty when the effect has none).
+    /// [`ImageWorld::extra`] per pixel (empty when the effect has none).
     pub extra: Vec<f32>,
     /// `images[e·L + l]`: estimator `e` at ladder `N_l`, per pixel.
     pub images: Vec<Vec<f32>>,

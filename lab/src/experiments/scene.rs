@@ -1190,12 +1190,6 @@ fn reproduce_pixel(cfg: &PixelConfig) -> String {
 
 // ---------------------------------------------------------------- entry
 
-pub(crate) fn read_source(path: &Path) -> Result<(SceneSource, Scene), String> {
-    let source = SceneSource::read(path)?;
-    let scene = source.scene()?;
-    Ok((source, scene))
-}
-
 /// Every estimator row of a scene: its primitives × segment lengths ×
 /// densities × samplers (lines once per sampler: they have no density).
 #[must_use]

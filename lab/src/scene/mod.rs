@@ -68,13 +68,26 @@
 //! out of range, a degenerate camera (`from = at`, `up` along the view), a
 //! degenerate quad or light (parallel or non-orthogonal edges), an unknown
 //! effect, primitive, pdf, sampler or orientation name, an empty list, no
-//! sphere (ambient occlusion) or no light (direct light).
+//! sphere (ambient occlusion) or no light (direct light), and every table
+//! or field the effect does not use (a quad, box, light or orientation in
+//! an AO scene; a sphere, max-distance, primitive, pdf or segment length
+//! in a direct-light scene).
+//!
+//! One entry reads every effect: [`parse_any`] reads `[effect] kind` first
+//! ([`effect_kind`]) and then that effect's schema: [`parse`] for the
+//! camera effects, [`caustic::parse`] for the volumetric caustic (no
+//! camera). They share one error type and one source context, so every
+//! error has the same form.
 
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
+
+pub mod caustic;
+
+pub use caustic::CausticScene;
 
 /// A scene file's mistake: where it is and what is wrong.
 #[derive(Clone, Debug, PartialEq)]
@@ -134,6 +147,22 @@ impl SceneSource {
     /// The scene file's error.
     pub fn scene(&self) -> Result<Scene, String> {
         parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    }
+
+    /// The checked volumetric-caustic scene.
+    ///
+    /// # Errors
+    /// The scene file's error.
+    pub fn caustic(&self) -> Result<CausticScene, String> {
+        caustic::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    }
+
+    /// The checked scene, whatever its effect.
+    ///
+    /// # Errors
+    /// The scene file's error.
+    pub fn any(&self) -> Result<SceneFile, SceneError> {
+        parse_any(Path::new(&self.path), &self.text)
     }
 }
 
@@ -441,7 +470,7 @@ pub enum EffectKind {
     AmbientOcclusion,
     /// `direct-light`.
     DirectLight,
-    /// `volumetric-caustic` (read by [`crate::caustic_scene`]).
+    /// `volumetric-caustic` (read by [`caustic::parse`]).
     VolumetricCaustic,
 }
 
@@ -544,7 +573,31 @@ pub fn load(path: &Path) -> Result<Scene, SceneError> {
     parse(path, &text)
 }
 
-/// Checks the text of a scene file (`path` names it in errors).
+/// A checked scene file of any effect.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SceneFile {
+    /// Ambient occlusion or direct light, seen through a camera.
+    Camera(Scene),
+    /// A volumetric caustic (no camera: a query ball).
+    Caustic(CausticScene),
+}
+
+/// Checks the text of a scene file of any effect: `[effect] kind` first
+/// ([`effect_kind`]), then that effect's schema ([`parse`] or
+/// [`caustic::parse`]); every table or field the effect does not use is
+/// an error naming it.
+///
+/// # Errors
+/// A [`SceneError`] naming the file, line, column and field.
+pub fn parse_any(path: &Path, text: &str) -> Result<SceneFile, SceneError> {
+    Ok(match effect_kind(path, text)? {
+        EffectKind::VolumetricCaustic => SceneFile::Caustic(caustic::parse(path, text)?),
+        _ => SceneFile::Camera(parse(path, text)?),
+    })
+}
+
+/// Checks the text of a camera scene file (ambient occlusion or direct
+/// light; `path` names it in errors).
 ///
 /// # Errors
 /// A [`SceneError`] naming the file, line, column and field.
@@ -552,16 +605,111 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
     let ctx = Ctx { path, text };
     // Syntax and the effect's kind first (their errors name no other
     // field), then the structure.
-    if effect_kind(path, text)? == EffectKind::VolumetricCaustic {
+    let kind = effect_kind(path, text)?;
+    if kind == EffectKind::VolumetricCaustic {
         return Err(ctx.at(
             0..0,
             "effect.kind",
-            "a volumetric-caustic scene has no camera: read it with caustic_scene::parse".into(),
+            "a volumetric-caustic scene has no camera: read it with scene::caustic::parse".into(),
         ));
     }
     let raw: RawScene = toml::from_str(text).map_err(|e| ctx.toml_error(&e))?;
+    unused(&ctx, kind, &raw)?;
+    let camera = parse_camera(&ctx, &raw.camera)?;
+    let spheres = parse_spheres(&ctx, &raw.sphere)?;
+    let quads = parse_quads(&ctx, &raw.quad)?;
+    let boxes = parse_boxes(&ctx, &raw.boxes)?;
+    let light = raw
+        .light
+        .as_ref()
+        .map(|l| parse_light(&ctx, l))
+        .transpose()?;
+    let effect = parse_effect(&ctx, kind, &raw)?;
+    let estimators = match &raw.estimators {
+        Some(est) => parse_estimators(&ctx, est.get_ref())?,
+        None => Estimators::default(),
+    };
+    Ok(Scene {
+        camera,
+        spheres,
+        quads,
+        boxes,
+        light,
+        effect,
+        estimators,
+    })
+}
 
-    let c = raw.camera.get_ref();
+/// The tables and fields `kind` does not use: each is an error naming it
+/// (ambient occlusion is spheres alone; direct light is quads, boxes and a
+/// light, with orientations and samplers to compare).
+fn unused(ctx: &Ctx<'_>, kind: EffectKind, raw: &RawScene) -> Result<(), SceneError> {
+    let name = kind.name();
+    let not = |span: Range<usize>, field: &str, why: &str| {
+        Err(ctx.at(span, field, format!("{name} does not use it ({why})")))
+    };
+    let est = raw.estimators.as_ref().map(Spanned::get_ref);
+    match kind {
+        EffectKind::AmbientOcclusion => {
+            if let Some(q) = raw.quad.first() {
+                return not(q.span(), "quad", "its occluders are [[sphere]]s");
+            }
+            if let Some(b) = raw.boxes.first() {
+                return not(b.span(), "box", "its occluders are [[sphere]]s");
+            }
+            if let Some(l) = &raw.light {
+                return not(l.span(), "light", "the sky is the light: it needs none");
+            }
+            if let Some(o) = est.and_then(|e| e.orientations.as_ref()) {
+                return not(
+                    o.span(),
+                    "estimators.orientations",
+                    "lines turn about the normal",
+                );
+            }
+        }
+        EffectKind::DirectLight => {
+            if let Some(s) = raw.sphere.first() {
+                return not(
+                    s.span(),
+                    "sphere",
+                    "direct-light scenes are made of [[quad]]s and [[box]]es (spheres are not \
+                     supported as occluders)",
+                );
+            }
+            if let Some(md) = &raw.effect.get_ref().max_distance {
+                return not(md.span(), "effect.max-distance", "nothing is cut off");
+            }
+            for (field, v) in [
+                (
+                    "estimators.primitives",
+                    est.and_then(|e| e.primitives.as_ref().map(Spanned::span)),
+                ),
+                (
+                    "estimators.pdfs",
+                    est.and_then(|e| e.pdfs.as_ref().map(Spanned::span)),
+                ),
+                (
+                    "estimators.segment-lengths",
+                    est.and_then(|e| e.segment_lengths.as_ref().map(Spanned::span)),
+                ),
+            ] {
+                if let Some(span) = v {
+                    return not(
+                        span,
+                        field,
+                        "points on the light and lines across it are compared",
+                    );
+                }
+            }
+        }
+        EffectKind::VolumetricCaustic => {}
+    }
+    Ok(())
+}
+
+fn parse_camera(ctx: &Ctx<'_>, raw: &Spanned<RawCamera>) -> Result<Camera, SceneError> {
+    let c = raw.get_ref();
     let from = ctx.finite3("camera.from", &c.from)?;
     let at = ctx.finite3("camera.at", &c.at)?;
     let up = ctx.finite3("camera.up", &c.up)?;
@@ -599,17 +747,19 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
             ));
         }
     }
-    let camera = Camera {
+    Ok(Camera {
         from,
         at,
         up,
         fov_deg: fov,
         width: w as u32,
         height: h as u32,
-    };
+    })
+}
 
-    let mut spheres = Vec::with_capacity(raw.sphere.len());
-    for (i, s) in raw.sphere.iter().enumerate() {
+fn parse_spheres(ctx: &Ctx<'_>, raw: &[Spanned<RawSphere>]) -> Result<Vec<SphereDef>, SceneError> {
+    let mut spheres = Vec::with_capacity(raw.len());
+    for (i, s) in raw.iter().enumerate() {
         let s = s.get_ref();
         let centre = ctx.finite3(&format!("sphere[{i}].centre"), &s.centre)?;
         let radius = ctx.finite(&format!("sphere[{i}].radius"), &s.radius)?;
@@ -622,9 +772,12 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
         }
         spheres.push(SphereDef { centre, radius });
     }
+    Ok(spheres)
+}
 
-    let mut quads = Vec::with_capacity(raw.quad.len());
-    for (i, q) in raw.quad.iter().enumerate() {
+fn parse_quads(ctx: &Ctx<'_>, raw: &[Spanned<RawQuad>]) -> Result<Vec<QuadDef>, SceneError> {
+    let mut quads = Vec::with_capacity(raw.len());
+    for (i, q) in raw.iter().enumerate() {
         let q = q.get_ref();
         let corner = ctx.finite3(&format!("quad[{i}].corner"), &q.corner)?;
         let edge1 = ctx.finite3(&format!("quad[{i}].edge1"), &q.edge1)?;
@@ -646,8 +799,12 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
             albedo,
         });
     }
-    let mut boxes = Vec::with_capacity(raw.boxes.len());
-    for (i, b) in raw.boxes.iter().enumerate() {
+    Ok(quads)
+}
+
+fn parse_boxes(ctx: &Ctx<'_>, raw: &[Spanned<RawBox>]) -> Result<Vec<BoxDef>, SceneError> {
+    let mut boxes = Vec::with_capacity(raw.len());
+    for (i, b) in raw.iter().enumerate() {
         let b = b.get_ref();
         let base = ctx.finite3(&format!("box[{i}].base"), &b.base)?;
         let size = ctx.finite3(&format!("box[{i}].size"), &b.size)?;
@@ -667,50 +824,50 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
             albedo,
         });
     }
-    let light = match &raw.light {
-        None => None,
-        Some(l) => {
-            let l = l.get_ref();
-            let corner = ctx.finite3("light.corner", &l.corner)?;
-            let edge1 = ctx.finite3("light.edge1", &l.edge1)?;
-            let edge2 = ctx.finite3("light.edge2", &l.edge2)?;
-            let (n1, n2) = (norm2(edge1).sqrt(), norm2(edge2).sqrt());
-            if n1 == 0.0 || n2 == 0.0 {
-                return Err(ctx.at(
-                    l.edge1.span(),
-                    "light.edge1",
-                    "the light's edges must be non-zero".into(),
-                ));
-            }
-            let cosine =
-                (edge1[0] * edge2[0] + edge1[1] * edge2[1] + edge1[2] * edge2[2]) / (n1 * n2);
-            if cosine.abs() > 1e-9 {
-                return Err(ctx.at(
-                    l.edge2.span(),
-                    "light.edge2",
-                    format!("must be orthogonal to light.edge1 (cosine {cosine:.3e})"),
-                ));
-            }
-            let radiance = ctx.finite3("light.radiance", &l.radiance)?;
-            if radiance.iter().any(|&x| x < 0.0) {
-                return Err(ctx.at(
-                    l.radiance.span(),
-                    "light.radiance",
-                    format!("must be non-negative, got {radiance:?}"),
-                ));
-            }
-            Some(LightDef {
-                corner,
-                edge1,
-                edge2,
-                radiance,
-            })
-        }
-    };
+    Ok(boxes)
+}
 
+fn parse_light(ctx: &Ctx<'_>, raw: &Spanned<RawLight>) -> Result<LightDef, SceneError> {
+    let l = raw.get_ref();
+    let corner = ctx.finite3("light.corner", &l.corner)?;
+    let edge1 = ctx.finite3("light.edge1", &l.edge1)?;
+    let edge2 = ctx.finite3("light.edge2", &l.edge2)?;
+    let (n1, n2) = (norm2(edge1).sqrt(), norm2(edge2).sqrt());
+    if n1 == 0.0 || n2 == 0.0 {
+        return Err(ctx.at(
+            l.edge1.span(),
+            "light.edge1",
+            "the light's edges must be non-zero".into(),
+        ));
+    }
+    let cosine = dot(edge1, edge2) / (n1 * n2);
+    if cosine.abs() > 1e-9 {
+        return Err(ctx.at(
+            l.edge2.span(),
+            "light.edge2",
+            format!("must be orthogonal to light.edge1 (cosine {cosine:.3e})"),
+        ));
+    }
+    let radiance = ctx.finite3("light.radiance", &l.radiance)?;
+    if radiance.iter().any(|&x| x < 0.0) {
+        return Err(ctx.at(
+            l.radiance.span(),
+            "light.radiance",
+            format!("must be non-negative, got {radiance:?}"),
+        ));
+    }
+    Ok(LightDef {
+        corner,
+        edge1,
+        edge2,
+        radiance,
+    })
+}
+
+fn parse_effect(ctx: &Ctx<'_>, kind: EffectKind, raw: &RawScene) -> Result<Effect, SceneError> {
     let e = raw.effect.get_ref();
-    let effect = match e.kind.get_ref().as_str() {
-        "ambient-occlusion" => {
+    match kind {
+        EffectKind::AmbientOcclusion => {
             let Some(md) = &e.max_distance else {
                 return Err(ctx.at(
                     raw.effect.span(),
@@ -729,128 +886,108 @@ pub fn parse(path: &Path, text: &str) -> Result<Scene, SceneError> {
             if raw.sphere.is_empty() {
                 return Err(ctx.at(0..0, "sphere", "the scene has no [[sphere]]".into()));
             }
-            Effect::AmbientOcclusion { max_distance: d }
+            Ok(Effect::AmbientOcclusion { max_distance: d })
         }
-        "direct-light" => {
-            if let Some(md) = &e.max_distance {
-                return Err(ctx.at(
-                    md.span(),
-                    "effect.max-distance",
-                    "direct-light takes no max-distance".into(),
-                ));
-            }
-            if light.is_none() {
+        EffectKind::DirectLight => {
+            if raw.light.is_none() {
                 return Err(ctx.at(
                     raw.effect.span(),
                     "light",
                     "direct-light needs a [light]".into(),
                 ));
             }
-            if !raw.sphere.is_empty() {
-                return Err(ctx.at(
-                    raw.sphere[0].span(),
-                    "sphere",
-                    "direct-light scenes are made of [[quad]]s and [[box]]es (spheres are not \
-                     supported as occluders)"
-                        .into(),
-                ));
-            }
-            Effect::DirectLight
+            Ok(Effect::DirectLight)
         }
-        other => {
-            return Err(ctx.at(
-                e.kind.span(),
-                "effect.kind",
-                format!("unknown effect '{other}' (known: {})", EffectKind::known()),
-            ))
-        }
-    };
-
-    let mut estimators = Estimators::default();
-    if let Some(est) = &raw.estimators {
-        let est = est.get_ref();
-        if let Some(p) = &est.primitives {
-            estimators.primitives = ctx.names(
-                "estimators.primitives",
-                p,
-                &[
-                    ("points", Primitive::Points),
-                    ("segments", Primitive::Segments),
-                    ("lines", Primitive::Lines),
-                ],
-            )?;
-        }
-        if let Some(p) = &est.pdfs {
-            estimators.pdfs = ctx.names(
-                "estimators.pdfs",
-                p,
-                &[
-                    ("uniform", CentrePdf::Uniform),
-                    ("solid-angle", CentrePdf::SolidAngle),
-                    ("cosine", CentrePdf::Cosine),
-                ],
-            )?;
-        }
-        if let Some(p) = &est.samplers {
-            estimators.samplers = ctx.names(
-                "estimators.samplers",
-                p,
-                &[
-                    ("random", SceneSampler::Random),
-                    ("jittered", SceneSampler::Jittered),
-                    ("multi-jittered", SceneSampler::MultiJittered),
-                    ("cmj", SceneSampler::Cmj),
-                    ("sobol", SceneSampler::Sobol),
-                ],
-            )?;
-        }
-        if let Some(o) = &est.orientations {
-            if o.get_ref().is_empty() {
-                return Err(ctx.at(o.span(), "estimators.orientations", "is empty".into()));
-            }
-            let mut v = Vec::new();
-            for (i, n) in o.get_ref().iter().enumerate() {
-                let Some(or) = Orientation::parse(n.get_ref()) else {
-                    return Err(ctx.at(
-                        n.span(),
-                        &format!("estimators.orientations[{i}]"),
-                        format!(
-                            "unknown orientation '{}' (known: edge1, edge2, angle-<degrees>, \
-                             random-per-point, random-per-line, stratified)",
-                            n.get_ref()
-                        ),
-                    ));
-                };
-                v.push(or);
-            }
-            estimators.orientations = v;
-        }
-        if let Some(l) = &est.segment_lengths {
-            if l.get_ref().is_empty() {
-                return Err(ctx.at(l.span(), "estimators.segment-lengths", "is empty".into()));
-            }
-            let mut v = Vec::new();
-            for (i, x) in l.get_ref().iter().enumerate() {
-                let name = format!("estimators.segment-lengths[{i}]");
-                let len = ctx.finite(&name, x)?;
-                // π as written to 16 digits (3.141592653589793) is the line.
-                if !(len > 0.0 && len <= std::f64::consts::PI) {
-                    return Err(ctx.at(x.span(), &name, format!("must be in (0, π], got {len}")));
-                }
-                v.push(len);
-            }
-            estimators.segment_lengths = v;
-        }
+        EffectKind::VolumetricCaustic => Err(ctx.at(
+            e.kind.span(),
+            "effect.kind",
+            "a volumetric-caustic scene has no camera".into(),
+        )),
     }
-    Ok(Scene {
-        camera,
-        spheres,
-        quads,
-        boxes,
-        light,
-        effect,
-        estimators,
-    })
+}
+
+fn parse_estimators(ctx: &Ctx<'_>, est: &RawEstimators) -> Result<Estimators, SceneError> {
+    let mut estimators = Estimators::default();
+    if let Some(p) = &est.primitives {
+        estimators.primitives = ctx.names(
+            "estimators.primitives",
+            p,
+            &[
+                ("points", Primitive::Points),
+                ("segments", Primitive::Segments),
+                ("lines", Primitive::Lines),
+            ],
+        )?;
+    }
+    if let Some(p) = &est.pdfs {
+        estimators.pdfs = ctx.names(
+            "estimators.pdfs",
+            p,
+            &[
+                ("uniform", CentrePdf::Uniform),
+                ("solid-angle", CentrePdf::SolidAngle),
+                ("cosine", CentrePdf::Cosine),
+            ],
+        )?;
+    }
+    if let Some(p) = &est.samplers {
+        estimators.samplers = ctx.names(
+            "estimators.samplers",
+            p,
+            &[
+                ("random", SceneSampler::Random),
+                ("jittered", SceneSampler::Jittered),
+                ("multi-jittered", SceneSampler::MultiJittered),
+                ("cmj", SceneSampler::Cmj),
+                ("sobol", SceneSampler::Sobol),
+            ],
+        )?;
+    }
+    if let Some(o) = &est.orientations {
+        estimators.orientations = parse_orientations(ctx, o)?;
+    }
+    if let Some(l) = &est.segment_lengths {
+        if l.get_ref().is_empty() {
+            return Err(ctx.at(l.span(), "estimators.segment-lengths", "is empty".into()));
+        }
+        let mut v = Vec::new();
+        for (i, x) in l.get_ref().iter().enumerate() {
+            let name = format!("estimators.segment-lengths[{i}]");
+            let len = ctx.finite(&name, x)?;
+            // π as written to 16 digits (3.141592653589793) is the line.
+            if !(len > 0.0 && len <= std::f64::consts::PI) {
+                return Err(ctx.at(x.span(), &name, format!("must be in (0, π], got {len}")));
+            }
+            v.push(len);
+        }
+        estimators.segment_lengths = v;
+    }
+    Ok(estimators)
+}
+
+fn parse_orientations(
+    ctx: &Ctx<'_>,
+    o: &Spanned<Vec<Spanned<String>>>,
+) -> Result<Vec<Orientation>, SceneError> {
+    if o.get_ref().is_empty() {
+        return Err(ctx.at(o.span(), "estimators.orientations", "is empty".into()));
+    }
+    let mut v = Vec::new();
+    for (i, n) in o.get_ref().iter().enumerate() {
+        let Some(or) = Orientation::parse(n.get_ref()) else {
+            return Err(ctx.at(
+                n.span(),
+                &format!("estimators.orientations[{i}]"),
+                format!(
+                    "unknown orientation '{}' (known: edge1, edge2, angle-<degrees>, \
+                     random-per-point, random-per-line, stratified)",
+                    n.get_ref()
+                ),
+            ));
+        };
+        v.push(or);
+    }
+    Ok(v)
 }
 
 impl Camera {

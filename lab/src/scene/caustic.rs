@@ -57,7 +57,7 @@ use linesample_scene::caustic::{
 use serde::Deserialize;
 use toml::Spanned;
 
-use crate::scene::{Ctx, EffectKind, SceneError, SceneSampler};
+use super::{Ctx, EffectKind, SceneError, SceneSampler};
 
 /// The `[effect] kind` of a volumetric-caustic scene.
 pub const KIND_NAME: &str = "volumetric-caustic";
@@ -204,6 +204,138 @@ fn positive(ctx: &Ctx<'_>, field: &str, v: &Spanned<f64>) -> Result<f64, SceneEr
     }
 }
 
+/// The glass: centre, radius, index of refraction, Fresnel and internal
+/// reflections.
+fn parse_glass(
+    ctx: &Ctx<'_>,
+    g: &RawGlass,
+    dims: usize,
+) -> Result<([f64; 3], f64, f64, bool, u32), SceneError> {
+    let glass_centre = vector(ctx, "glass.centre", &g.centre, dims)?;
+    let glass_radius = positive(ctx, "glass.radius", &g.radius)?;
+    let ior = ctx.finite("glass.ior", &g.ior)?;
+    if !(1.0..=10.0).contains(&ior) {
+        return Err(ctx.at(
+            g.ior.span(),
+            "glass.ior",
+            format!("must be in [1, 10] (relative to the medium), got {ior}"),
+        ));
+    }
+    let fresnel = *g.fresnel.get_ref();
+    let internal_reflections = match &g.internal_reflections {
+        None => 0,
+        Some(k) => {
+            if !fresnel {
+                return Err(ctx.at(
+                    k.span(),
+                    "glass.internal-reflections",
+                    "needs fresnel = true (without Fresnel nothing reflects)".into(),
+                ));
+            }
+            let v = *k.get_ref();
+            if !(0..=i64::from(MAX_INTERNAL_REFLECTIONS)).contains(&v) {
+                return Err(ctx.at(
+                    k.span(),
+                    "glass.internal-reflections",
+                    format!("must be in 0..={MAX_INTERNAL_REFLECTIONS}, got {v}"),
+                ));
+            }
+            v as u32
+        }
+    };
+    Ok((
+        glass_centre,
+        glass_radius,
+        ior,
+        fresnel,
+        internal_reflections,
+    ))
+}
+
+/// The medium's scattering and absorption coefficients.
+fn parse_medium(ctx: &Ctx<'_>, m: &RawMedium) -> Result<(f64, f64), SceneError> {
+    let sigma_s = ctx.finite("medium.sigma-s", &m.sigma_s)?;
+    let sigma_a = ctx.finite("medium.sigma-a", &m.sigma_a)?;
+    for (x, f, sp) in [
+        (sigma_s, "medium.sigma-s", m.sigma_s.span()),
+        (sigma_a, "medium.sigma-a", m.sigma_a.span()),
+    ] {
+        if !(0.0..=1e6).contains(&x) {
+            return Err(ctx.at(sp, f, format!("must be in [0, 1e6], got {x}")));
+        }
+    }
+    if sigma_s <= 0.0 {
+        return Err(ctx.at(
+            m.sigma_s.span(),
+            "medium.sigma-s",
+            "must be positive: a medium that scatters nothing has no caustic".into(),
+        ));
+    }
+    Ok((sigma_s, sigma_a))
+}
+
+/// The fluence image's frame.
+fn parse_fluence(
+    ctx: &Ctx<'_>,
+    raw: &Spanned<RawFluence>,
+    dims: usize,
+) -> Result<FluenceDef, SceneError> {
+    let f = raw.get_ref();
+    let centre = vector(ctx, "fluence.centre", &f.centre, dims)?;
+    let size = *f.size.get_ref();
+    if size.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
+        return Err(ctx.at(
+            f.size.span(),
+            "fluence.size",
+            format!("both sides must be positive, got {size:?}"),
+        ));
+    }
+    let [w, h] = *f.resolution.get_ref();
+    for (v, name) in [(w, "width"), (h, "height")] {
+        if !(1..=8192).contains(&v) {
+            return Err(ctx.at(
+                f.resolution.span(),
+                "fluence.resolution",
+                format!("{name} must be in 1..=8192, got {v}"),
+            ));
+        }
+    }
+    let beams = *f.beams.get_ref();
+    if !(1024..=1 << 32).contains(&beams) {
+        return Err(ctx.at(
+            f.beams.span(),
+            "fluence.beams",
+            format!("must be in 1024..=2^32, got {beams}"),
+        ));
+    }
+    let thickness = match (&f.thickness, dims) {
+        (None, 2) => None,
+        (Some(t), 2) => {
+            return Err(ctx.at(
+                t.span(),
+                "fluence.thickness",
+                "is for 3D scenes (the 2D image is the whole plane)".into(),
+            ))
+        }
+        (None, _) => {
+            return Err(ctx.at(
+                raw.span(),
+                "fluence.thickness",
+                "missing (a 3D fluence image is a slab of this thickness)".into(),
+            ))
+        }
+        (Some(t), _) => Some(positive(ctx, "fluence.thickness", t)?),
+    };
+    Ok(FluenceDef {
+        centre,
+        size,
+        width: w as u32,
+        height: h as u32,
+        beams: beams as u64,
+        thickness,
+    })
+}
+
 /// Checks the text of a caustic scene file (`path` names it in errors).
 ///
 /// # Errors
@@ -246,38 +378,8 @@ pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
         ));
     }
     let g = raw.glass.get_ref();
-    let glass_centre = vector(&ctx, "glass.centre", &g.centre, dims)?;
-    let glass_radius = positive(&ctx, "glass.radius", &g.radius)?;
-    let ior = ctx.finite("glass.ior", &g.ior)?;
-    if !(1.0..=10.0).contains(&ior) {
-        return Err(ctx.at(
-            g.ior.span(),
-            "glass.ior",
-            format!("must be in [1, 10] (relative to the medium), got {ior}"),
-        ));
-    }
-    let fresnel = *g.fresnel.get_ref();
-    let internal_reflections = match &g.internal_reflections {
-        None => 0,
-        Some(k) => {
-            if !fresnel {
-                return Err(ctx.at(
-                    k.span(),
-                    "glass.internal-reflections",
-                    "needs fresnel = true (without Fresnel nothing reflects)".into(),
-                ));
-            }
-            let v = *k.get_ref();
-            if !(0..=i64::from(MAX_INTERNAL_REFLECTIONS)).contains(&v) {
-                return Err(ctx.at(
-                    k.span(),
-                    "glass.internal-reflections",
-                    format!("must be in 0..={MAX_INTERNAL_REFLECTIONS}, got {v}"),
-                ));
-            }
-            v as u32
-        }
-    };
+    let (glass_centre, glass_radius, ior, fresnel, internal_reflections) =
+        parse_glass(&ctx, g, dims)?;
     let d2: f64 = (0..dims)
         .map(|j| (light[j] - glass_centre[j]).powi(2))
         .sum();
@@ -288,73 +390,11 @@ pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
             "is inside the glass (the light must be in the medium)".into(),
         ));
     }
-    let m = raw.medium.get_ref();
-    let sigma_s = ctx.finite("medium.sigma-s", &m.sigma_s)?;
-    let sigma_a = ctx.finite("medium.sigma-a", &m.sigma_a)?;
-    for (x, f, sp) in [
-        (sigma_s, "medium.sigma-s", m.sigma_s.span()),
-        (sigma_a, "medium.sigma-a", m.sigma_a.span()),
-    ] {
-        if !(0.0..=1e6).contains(&x) {
-            return Err(ctx.at(sp, f, format!("must be in [0, 1e6], got {x}")));
-        }
-    }
-    if sigma_s <= 0.0 {
-        return Err(ctx.at(
-            m.sigma_s.span(),
-            "medium.sigma-s",
-            "must be positive: a medium that scatters nothing has no caustic".into(),
-        ));
-    }
+    let (sigma_s, sigma_a) = parse_medium(&ctx, raw.medium.get_ref())?;
     let q = raw.query.get_ref();
     let query_centre = vector(&ctx, "query.centre", &q.centre, dims)?;
     let query_radius = positive(&ctx, "query.radius", &q.radius)?;
-    let f = raw.fluence.get_ref();
-    let centre = vector(&ctx, "fluence.centre", &f.centre, dims)?;
-    let size = *f.size.get_ref();
-    if size.iter().any(|s| !(s.is_finite() && *s > 0.0)) {
-        return Err(ctx.at(
-            f.size.span(),
-            "fluence.size",
-            format!("both sides must be positive, got {size:?}"),
-        ));
-    }
-    let [w, h] = *f.resolution.get_ref();
-    for (v, name) in [(w, "width"), (h, "height")] {
-        if !(1..=8192).contains(&v) {
-            return Err(ctx.at(
-                f.resolution.span(),
-                "fluence.resolution",
-                format!("{name} must be in 1..=8192, got {v}"),
-            ));
-        }
-    }
-    let beams = *f.beams.get_ref();
-    if !(1024..=1 << 32).contains(&beams) {
-        return Err(ctx.at(
-            f.beams.span(),
-            "fluence.beams",
-            format!("must be in 1024..=2^32, got {beams}"),
-        ));
-    }
-    let thickness = match (&f.thickness, dims) {
-        (None, 2) => None,
-        (Some(t), 2) => {
-            return Err(ctx.at(
-                t.span(),
-                "fluence.thickness",
-                "is for 3D scenes (the 2D image is the whole plane)".into(),
-            ))
-        }
-        (None, _) => {
-            return Err(ctx.at(
-                raw.fluence.span(),
-                "fluence.thickness",
-                "missing (a 3D fluence image is a slab of this thickness)".into(),
-            ))
-        }
-        (Some(t), _) => Some(positive(&ctx, "fluence.thickness", t)?),
-    };
+    let fluence = parse_fluence(&ctx, &raw.fluence, dims)?;
     let samplers = match raw
         .estimators
         .as_ref()
@@ -384,14 +424,7 @@ pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
         sigma_a,
         query_centre,
         query_radius,
-        fluence: FluenceDef {
-            centre,
-            size,
-            width: w as u32,
-            height: h as u32,
-            beams: beams as u64,
-            thickness,
-        },
+        fluence,
         samplers,
     };
     // The kernel's own checks (ranges it enforces beyond the above).
