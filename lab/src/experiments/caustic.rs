@@ -821,6 +821,62 @@ fn ramp(v: f64) -> [u8; 3] {
     std::array::from_fn(|j| ((ca[j] + t * (cb[j] - ca[j])) * 255.0).round() as u8)
 }
 
+/// The fluence image in colour: a log scale over four decades below the
+/// peak, with outlines of the glass (grey) and Q (cyan) where the image
+/// plane cuts them.
+fn fluence_rgb(scene: &CausticScene, f: &Frame, grid: &[f64], peak: f64) -> Vec<[u8; 3]> {
+    let fl = &scene.fluence;
+    let (w, h) = (f.w, f.h);
+    // Log scale over four decades below the peak.
+    let lo = peak * 1e-4;
+    let mut px: Vec<[u8; 3]> = grid
+        .iter()
+        .map(|&g| {
+            if g <= lo || peak <= 0.0 {
+                ramp(0.0)
+            } else {
+                ramp((g / lo).log10() / 4.0)
+            }
+        })
+        .collect();
+    // Outlines: the glass (grey) and Q (cyan), where the image plane cuts them.
+    let slice_r = |c: &[f64; 3], r: f64| -> f64 {
+        if scene.dims == 3 {
+            let dz = c[2] - fl.centre[2];
+            (r * r - dz * dz).max(0.0).sqrt()
+        } else {
+            r
+        }
+    };
+    let outlines = [
+        (
+            scene.glass_centre,
+            slice_r(&scene.glass_centre, scene.glass_radius),
+            [150u8, 150, 150],
+        ),
+        (
+            scene.query_centre,
+            slice_r(&scene.query_centre, scene.query_radius),
+            [60, 220, 255],
+        ),
+    ];
+    for row in 0..h {
+        for col in 0..w {
+            let xc = f.x0 + (col as f64 + 0.5) * f.px;
+            let yc = f.y0 + ((h - 1 - row) as f64 + 0.5) * f.py;
+            for (c, r, colour) in &outlines {
+                if *r > 0.0 {
+                    let d = ((xc - c[0]).powi(2) + (yc - c[1]).powi(2)).sqrt();
+                    if (d - r).abs() < 0.6 * f.px.max(f.py) {
+                        px[row * w + col] = *colour;
+                    }
+                }
+            }
+        }
+    }
+    px
+}
+
 /// Renders the fluence image into `out` (`fluence.png`, `fluence.json`).
 ///
 /// # Errors
@@ -903,53 +959,7 @@ pub fn run_image(
         }
     }
     let seconds = t.elapsed().as_secs_f64();
-    // Log scale over four decades below the peak.
-    let lo = peak * 1e-4;
-    let mut px: Vec<[u8; 3]> = grid
-        .iter()
-        .map(|&g| {
-            if g <= lo || peak <= 0.0 {
-                ramp(0.0)
-            } else {
-                ramp((g / lo).log10() / 4.0)
-            }
-        })
-        .collect();
-    // Outlines: the glass (grey) and Q (cyan), where the image plane cuts them.
-    let slice_r = |c: &[f64; 3], r: f64| -> f64 {
-        if scene.dims == 3 {
-            let dz = c[2] - fl.centre[2];
-            (r * r - dz * dz).max(0.0).sqrt()
-        } else {
-            r
-        }
-    };
-    let outlines = [
-        (
-            scene.glass_centre,
-            slice_r(&scene.glass_centre, scene.glass_radius),
-            [150u8, 150, 150],
-        ),
-        (
-            scene.query_centre,
-            slice_r(&scene.query_centre, scene.query_radius),
-            [60, 220, 255],
-        ),
-    ];
-    for row in 0..h {
-        for col in 0..w {
-            let xc = f.x0 + (col as f64 + 0.5) * f.px;
-            let yc = f.y0 + ((h - 1 - row) as f64 + 0.5) * f.py;
-            for (c, r, colour) in &outlines {
-                if *r > 0.0 {
-                    let d = ((xc - c[0]).powi(2) + (yc - c[1]).powi(2)).sqrt();
-                    if (d - r).abs() < 0.6 * f.px.max(f.py) {
-                        px[row * w + col] = *colour;
-                    }
-                }
-            }
-        }
-    }
+    let px = fluence_rgb(&scene, &f, &grid, peak);
     let (prow, pcol) = (at / w, at % w);
     let summary = FluenceSummary {
         scene: &source.path,

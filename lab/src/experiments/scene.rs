@@ -955,87 +955,95 @@ pub fn complete_pixel(
     )?;
     group.commit()?;
     if !quiet {
-        crate::out!(
-            "pixel ({x}, {y}): AO reference {:.6} ± {:.1e} ({})",
-            doc.reference.value,
-            doc.reference.se,
-            doc.reference.method
-        );
-        crate::out!(
-            "{:<42} {:>7} {:>18} {:>9}  {:<17}  {:>11} {:>14}  {}",
-            "estimator",
-            "slope",
-            "95 % interval",
-            "theory",
-            "verdict",
-            "Var(N_max)",
-            "s to 1 %",
-            "note"
-        );
-        for (s, &var_max) in slopes.iter().zip(&var_max) {
-            crate::out!(
-                "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:<17}  {:>11.3e} {:>14}  {}",
-                s.estimator,
-                s.slope,
-                s.ci95_low,
-                s.ci95_high,
-                if s.theory.is_nan() {
-                    "-".to_string()
-                } else {
-                    format!(
-                        "{:.2}{}",
-                        s.theory,
-                        if s.theory_log_power > 0 { "+log" } else { "" }
-                    )
-                },
-                s.verdict,
-                var_max,
-                if s.verdict == "infinite variance" {
-                    "-".into()
-                } else {
-                    fit_sci(s.seconds_to_1pct, 2)
-                },
-                if s.error.is_empty() {
-                    &s.theory_note
-                } else {
-                    &s.error
-                }
-            );
-        }
-        let preds: Vec<&PixelRow> = rows
-            .iter()
-            .filter(|r| r.predicted_variance.is_finite())
-            .collect();
-        if !preds.is_empty() {
-            crate::out!(
-                "spectral prediction (uniform density; {} pattern realisations per spectrum):",
-                cfg.spectrum_realisations
-            );
-            crate::out!(
-                "{:<42} {:>5} {:>11} {:>10} {:>11} {:>7}",
-                "estimator",
-                "N",
-                "measured",
-                "SE",
-                "predicted",
-                "ratio"
-            );
-            for r in preds {
-                crate::out!(
-                    "{:<42} {:>5} {:>11.3e} {:>10.2e} {:>11.3e} {:>7.3}",
-                    r.estimator,
-                    r.n,
-                    r.variance,
-                    r.variance_se,
-                    r.predicted_variance,
-                    r.predicted_variance / r.variance
-                );
-            }
-        }
+        print_pixel(cfg, &doc, &var_max);
         crate::out!("wrote {}", dir.join(format!("{stem}.json")).display());
     }
     let failed: Vec<String> = stats.iter().filter_map(|r| r.error.clone()).collect();
     study::no_failures("pixel study", &failed, &dir.join(format!("{stem}.json")))
+}
+
+/// Prints the pixel study's tables: the slopes with their verdicts, and
+/// the spectral predictions beside the measurements.
+fn print_pixel(cfg: &PixelConfig, doc: &PixelDoc<'_>, var_max: &[f64]) {
+    let (x, y) = cfg.pixel;
+    let (slopes, rows) = (doc.slopes, doc.convergence);
+    crate::out!(
+        "pixel ({x}, {y}): AO reference {:.6} ± {:.1e} ({})",
+        doc.reference.value,
+        doc.reference.se,
+        doc.reference.method
+    );
+    crate::out!(
+        "{:<42} {:>7} {:>18} {:>9}  {:<17}  {:>11} {:>14}  {}",
+        "estimator",
+        "slope",
+        "95 % interval",
+        "theory",
+        "verdict",
+        "Var(N_max)",
+        "s to 1 %",
+        "note"
+    );
+    for (s, &var_max) in slopes.iter().zip(var_max) {
+        crate::out!(
+            "{:<42} {:>7.2} [{:>7.2}, {:>7.2}] {:>9}  {:<17}  {:>11.3e} {:>14}  {}",
+            s.estimator,
+            s.slope,
+            s.ci95_low,
+            s.ci95_high,
+            if s.theory.is_nan() {
+                "-".to_string()
+            } else {
+                format!(
+                    "{:.2}{}",
+                    s.theory,
+                    if s.theory_log_power > 0 { "+log" } else { "" }
+                )
+            },
+            s.verdict,
+            var_max,
+            if s.verdict == "infinite variance" {
+                "-".into()
+            } else {
+                fit_sci(s.seconds_to_1pct, 2)
+            },
+            if s.error.is_empty() {
+                &s.theory_note
+            } else {
+                &s.error
+            }
+        );
+    }
+    let preds: Vec<&PixelRow> = rows
+        .iter()
+        .filter(|r| r.predicted_variance.is_finite())
+        .collect();
+    if !preds.is_empty() {
+        crate::out!(
+            "spectral prediction (uniform density; {} pattern realisations per spectrum):",
+            cfg.spectrum_realisations
+        );
+        crate::out!(
+            "{:<42} {:>5} {:>11} {:>10} {:>11} {:>7}",
+            "estimator",
+            "N",
+            "measured",
+            "SE",
+            "predicted",
+            "ratio"
+        );
+        for r in preds {
+            crate::out!(
+                "{:<42} {:>5} {:>11.3e} {:>10.2e} {:>11.3e} {:>7.3}",
+                r.estimator,
+                r.n,
+                r.variance,
+                r.variance_se,
+                r.predicted_variance,
+                r.predicted_variance / r.variance
+            );
+        }
+    }
 }
 
 /// The spectral predictions of the measured rows (row-major, NaN where

@@ -129,44 +129,7 @@ pub(super) fn section_caustics(out_dir: &Path) -> Result<String, String> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         // dims,estimator,sampler,slope,lo,hi,expected,expected_with_log,slope_all,last,zmax,n1,t1
         for r in &rows {
-            let f = |i: usize| r[i].parse::<f64>().unwrap_or(f64::NAN);
-            let dims: usize = r[0].parse().unwrap_or(0);
-            let (slope, lo, hi, e_lo, e_hi, all, zmax, n1, t1) =
-                (f(3), f(4), f(5), f(6), f(7), f(8), f(10), f(11), f(12));
-            let why = match (parse_est(&r[1]), parse_sampler(&r[2])) {
-                (Some(e), Some(s)) => expected(dims, e, s).map_or("", |x| x.1),
-                _ => "",
-            };
-            let (exp_text, verdict) = if e_lo.is_nan() {
-                ("—".to_string(), "")
-            } else {
-                let t = if e_lo == e_hi {
-                    format!("{e_lo:+.2}")
-                } else {
-                    format!("{e_lo:+.2} … {e_hi:+.2}")
-                };
-                (
-                    format!("<span title=\"{}\">{t}</span>", esc(why)),
-                    if consistent(lo, hi, e_lo, e_hi) {
-                        "consistent"
-                    } else if hi + SLOPE_SLACK >= e_lo && lo - SLOPE_SLACK <= -1.0 {
-                        // Between random's N^-1 and the rate.
-                        "pre-asymptotic"
-                    } else {
-                        "differs"
-                    },
-                )
-            };
-            let _ = write!(
-                h,
-                "<tr><td>{dims}D</td><td>{}</td><td>{}</td>\
-                 <td>{slope:+.2} [{lo:+.2}, {hi:+.2}]</td><td>{all:+.2}</td><td>{exp_text}</td>\
-                 <td>{verdict}</td><td>{zmax:.2}</td><td>{}</td><td>{}</td></tr>",
-                esc(&r[1]),
-                esc(&r[2]),
-                fit_sci(n1, 3),
-                fit_sci(t1, 2),
-            );
+            slope_row(&mut h, r);
         }
     }
     h.push_str(
@@ -200,4 +163,48 @@ pub(super) fn section_caustics(out_dir: &Path) -> Result<String, String> {
     }
     h.push_str("</div>\n");
     Ok(h)
+}
+
+/// One `slopes.csv` row (dims, estimator, sampler, slope, lo, hi, expected,
+/// expected with log, slope over all N, last, max |z|, N and seconds to
+/// 1 %) as a table row with its expectation and verdict.
+fn slope_row(h: &mut String, r: &csv::StringRecord) {
+    let f = |i: usize| r[i].parse::<f64>().unwrap_or(f64::NAN);
+    let dims: usize = r[0].parse().unwrap_or(0);
+    let (slope, lo, hi, e_lo, e_hi, all, zmax, n1, t1) =
+        (f(3), f(4), f(5), f(6), f(7), f(8), f(10), f(11), f(12));
+    let why = match (parse_est(&r[1]), parse_sampler(&r[2])) {
+        (Some(e), Some(s)) => expected(dims, e, s).map_or("", |x| x.1),
+        _ => "",
+    };
+    let (exp_text, verdict) = if e_lo.is_nan() {
+        ("—".to_string(), "")
+    } else {
+        let t = if e_lo == e_hi {
+            format!("{e_lo:+.2}")
+        } else {
+            format!("{e_lo:+.2} … {e_hi:+.2}")
+        };
+        (
+            format!("<span title=\"{}\">{t}</span>", esc(why)),
+            if consistent(lo, hi, e_lo, e_hi) {
+                "consistent"
+            } else if hi + SLOPE_SLACK >= e_lo && lo - SLOPE_SLACK <= -1.0 {
+                // Between random's N^-1 and the rate.
+                "pre-asymptotic"
+            } else {
+                "differs"
+            },
+        )
+    };
+    let _ = write!(
+        h,
+        "<tr><td>{dims}D</td><td>{}</td><td>{}</td>\
+         <td>{slope:+.2} [{lo:+.2}, {hi:+.2}]</td><td>{all:+.2}</td><td>{exp_text}</td>\
+         <td>{verdict}</td><td>{zmax:.2}</td><td>{}</td><td>{}</td></tr>",
+        esc(&r[1]),
+        esc(&r[2]),
+        fit_sci(n1, 3),
+        fit_sci(t1, 2),
+    );
 }

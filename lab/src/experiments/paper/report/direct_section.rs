@@ -118,48 +118,26 @@ pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
          brightness the log ratio (full at 100×); white crosses mark A and B.</figcaption>\
          </figure>"
     );
-    let mut rdr = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_path(&csv_path)
-        .map_err(|e| format!("{}: {e}", csv_path.display()))?;
-    let rows: Vec<csv::StringRecord> = rdr
-        .records()
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("{}: {e}", csv_path.display()))?;
-    h.push_str(
-        "<table><tr><th>estimator</th><th>N</th><th>seconds</th><th>s per sample</th>\
-         <th>MSE vs reference</th><th>shown as</th></tr>",
-    );
-    for r in &rows {
-        let (es, et) = (&r[6] == "true", &r[7] == "true");
-        if !(es || et) {
-            continue;
-        }
-        let shown = match (es, et) {
-            (true, true) => "equal samples, equal time",
-            (true, false) => "equal samples",
-            _ => "equal time",
-        };
-        let _ = write!(
-            h,
-            "<tr><td>{}</td><td>{}</td><td>{:.3}</td><td>{:.2e}</td><td>{:.3e}</td>\
-             <td>{shown}</td></tr>",
-            esc(&r[0]),
-            &r[1],
-            r[2].parse::<f64>().unwrap_or(f64::NAN),
-            r[3].parse::<f64>().unwrap_or(f64::NAN),
-            r[4].parse::<f64>().unwrap_or(f64::NAN),
-        );
-    }
+    let rows = super::scene_section::read_csv(&csv_path)?;
+    super::scene_section::images_table(&mut h, &rows);
     h.push_str("</table>\n");
-    // Pixels.
+    pixel_studies(&mut h, &dir)?;
+    Ok(h)
+}
+
+/// Pixels A, B, P1 and P2: why each was chosen, their slopes against the
+/// expectation, and their curves.
+///
+/// # Errors
+/// A file that exists but does not parse.
+fn pixel_studies(h: &mut String, dir: &Path) -> Result<(), String> {
     let chosen: Value = match std::fs::read(dir.join("pixels.json")) {
         Ok(b) => serde_json::from_slice(&b).map_err(|e| format!("pixels.json: {e}"))?,
         Err(_) => Value::Null,
     };
     if chosen.is_null() {
         h.push_str("<p>No penumbra pixel was found: no pixel study.</p>\n");
-        return Ok(h);
+        return Ok(());
     }
     let xy = |v: &Value| format!("({}, {})", v[0], v[1]);
     let mut pixel_text = format!(
@@ -204,7 +182,7 @@ pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
         .from_path(&slopes_path)
     else {
         h.push_str("<p>The pixel studies did not run.</p>\n");
-        return Ok(h);
+        return Ok(());
     };
     let rows: Vec<csv::StringRecord> = rdr
         .records()
@@ -284,5 +262,5 @@ pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
         );
     }
     h.push_str("</div>\n");
-    Ok(h)
+    Ok(())
 }

@@ -52,14 +52,7 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
          lines (φ only). Every realisation has its own random toroidal shift.</p>"
     );
     // Images.
-    let mut rdr = csv::ReaderBuilder::new()
-        .comment(Some(b'#'))
-        .from_path(&csv_path)
-        .map_err(|e| format!("{}: {e}", csv_path.display()))?;
-    let rows: Vec<csv::StringRecord> = rdr
-        .records()
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("{}: {e}", csv_path.display()))?;
+    let rows = read_csv(&csv_path)?;
     let _ = writeln!(
         h,
         "<h3>Images</h3><figure><img src=\"ao/images/sheet.png\" style=\"width:100%;\
@@ -73,11 +66,36 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
          blue. Files: <a href=\"ao/images/images.csv\">images.csv</a>, one PNG per \
          image in <code>ao/images/</code>.</figcaption></figure>"
     );
+    images_table(&mut h, &rows);
+    h.push_str(
+        "</table><p>Reading the images: a point sample casts one ray against every sphere \
+         (a quadratic each); a line merges every sphere's occluded angle interval (an \
+         <code>atan2</code> and an <code>acos</code> each in f64), so a point costs about half \
+         an f64 line, and the f32 SIMD batch makes a line cheaper than a point. At equal time \
+         the points get about twice the samples of the f64 lines and still have an MSE tens \
+         of times larger. The sharp change of variance across each sphere at the height where \
+         its normal is horizontal is real: just above it a narrow range of azimuths escapes \
+         the ground (a narrow peak in the line integrand L(φ)), just below it none does.</p>\n",
+    );
+    // Pixels.
+    for (x, y) in PAPER_PIXELS {
+        pixel_section(&mut h, &dir, x, y)?;
+    }
+    h.push_str(PITFALLS);
+    if mode == Mode::Reduced {
+        h.push_str("<p><b>Reduced mode: tiny images and few realisations; do not cite.</b></p>\n");
+    }
+    Ok(h)
+}
+
+/// The equal-samples and equal-time rows of `images.csv` as a table (its
+/// opening; the caller closes it).
+pub(super) fn images_table(h: &mut String, rows: &[csv::StringRecord]) {
     h.push_str(
         "<table><tr><th>estimator</th><th>N</th><th>seconds</th><th>s per sample</th>\
          <th>MSE vs reference</th><th>mean variance</th><th>shown as</th></tr>",
     );
-    for r in &rows {
+    for r in rows {
         let (es, et) = (&r[6] == "true", &r[7] == "true");
         if !(es || et) {
             continue;
@@ -103,158 +121,162 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
             }
         );
     }
-    h.push_str(
-        "</table><p>Reading the images: a point sample casts one ray against every sphere \
-         (a quadratic each); a line merges every sphere's occluded angle interval (an \
-         <code>atan2</code> and an <code>acos</code> each in f64), so a point costs about half \
-         an f64 line, and the f32 SIMD batch makes a line cheaper than a point. At equal time \
-         the points get about twice the samples of the f64 lines and still have an MSE tens \
-         of times larger. The sharp change of variance across each sphere at the height where \
-         its normal is horizontal is real: just above it a narrow range of azimuths escapes \
-         the ground (a narrow peak in the line integrand L(φ)), just below it none does.</p>\n",
+}
+
+/// One studied pixel: its reference, slopes with verdicts, and the
+/// spectral predictions with the theory images.
+///
+/// # Errors
+/// A study file that exists but does not parse.
+fn pixel_section(h: &mut String, dir: &Path, x: u32, y: u32) -> Result<(), String> {
+    let stem = format!("pixel-{x}-{y}");
+    let json = dir.join(&stem).join(format!("{stem}.json"));
+    let Ok(bytes) = std::fs::read(&json) else {
+        let _ = write!(h, "<p>Pixel ({x}, {y}): not run.</p>");
+        return Ok(());
+    };
+    let v: Value =
+        serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", json.display()))?;
+    let rel = format!("ao/{stem}/{stem}");
+    let _ = writeln!(
+        h,
+        "<h3 id=\"{stem}\">Pixel ({x}, {y})</h3><p>Reference AO <b>{:.6} ± {:.1e}</b> ({}). \
+         Files: <a href=\"{rel}.json\">{stem}.json</a>, <a href=\"{rel}.csv\">{stem}.csv</a>, \
+         <a href=\"{rel}-slopes.csv\">slopes</a>.</p>\
+         <div class=\"figs\"><figure><img src=\"{rel}.svg\"><figcaption>Variance against N \
+         (uniform centre density): measured ±1 SE, fitted power law, hollow: the spectral \
+         prediction.</figcaption></figure></div>",
+        num(&v["reference"]["value"]),
+        num(&v["reference"]["se"]),
+        esc(&text(&v["reference"]["method"]))
     );
-    // Pixels.
-    for (x, y) in PAPER_PIXELS {
-        let stem = format!("pixel-{x}-{y}");
-        let json = dir.join(&stem).join(format!("{stem}.json"));
-        let Ok(bytes) = std::fs::read(&json) else {
-            let _ = write!(h, "<p>Pixel ({x}, {y}): not run.</p>");
-            continue;
+    h.push_str(
+        "<table><tr><th>estimator</th><th>N</th><th>slope [95 %]</th><th>theory</th>\
+         <th>verdict</th><th>fit χ²/dof</th><th>s to 1 % RMSE</th><th>why</th></tr>",
+    );
+    for s in v["slopes"].as_array().into_iter().flatten() {
+        let (slope, lo, hi, th) = (
+            num(&s["slope"]),
+            num(&s["ci95_low"]),
+            num(&s["ci95_high"]),
+            num(&s["theory"]),
+        );
+        let log = s["theory_log_power"].as_u64().unwrap_or(0) > 0;
+        let verdict = match s["verdict"].as_str().unwrap_or("") {
+            v @ "consistent" => format!("<span class=\"v ok\">{v}</span>"),
+            v @ ("log factor" | "pre-asymptotic") => {
+                format!("<span class=\"v pre\">{v}</span>")
+            }
+            v @ ("infinite variance" | "no fit") => format!("<span class=\"v na\">{v}</span>"),
+            v => format!("<span class=\"v bad\">{}</span>", esc(v)),
         };
-        let v: Value =
-            serde_json::from_slice(&bytes).map_err(|e| format!("{}: {e}", json.display()))?;
-        let rel = format!("ao/{stem}/{stem}");
-        let _ = writeln!(
+        let _ = write!(
             h,
-            "<h3 id=\"{stem}\">Pixel ({x}, {y})</h3><p>Reference AO <b>{:.6} ± {:.1e}</b> ({}). \
-             Files: <a href=\"{rel}.json\">{stem}.json</a>, <a href=\"{rel}.csv\">{stem}.csv</a>, \
-             <a href=\"{rel}-slopes.csv\">slopes</a>.</p>\
-             <div class=\"figs\"><figure><img src=\"{rel}.svg\"><figcaption>Variance against N \
-             (uniform centre density): measured ±1 SE, fitted power law, hollow: the spectral \
-             prediction.</figcaption></figure></div>",
-            num(&v["reference"]["value"]),
-            num(&v["reference"]["se"]),
-            esc(&text(&v["reference"]["method"]))
+            "<tr><td>{}</td><td>{}–{}</td><td>{slope:.2} [{lo:.2}, {hi:.2}]</td><td>{}</td>\
+             <td>{verdict}</td><td>{:.1}</td><td>{}</td><td>{}</td></tr>",
+            esc(&text(&s["estimator"])),
+            s["n_min"],
+            s["n_max"],
+            if th.is_nan() {
+                "–".into()
+            } else {
+                format!("N^{th}{}", if log { " log N" } else { "" })
+            },
+            num(&s["fit_chi2_dof"]),
+            if s["verdict"] == "infinite variance" {
+                "–".into()
+            } else {
+                fit_sci(num(&s["seconds_to_1pct"]), 2)
+            },
+            esc(&match text(&s["error"]) {
+                e if e.is_empty() => text(&s["theory_note"]),
+                e => e,
+            })
         );
-        h.push_str(
-            "<table><tr><th>estimator</th><th>N</th><th>slope [95 %]</th><th>theory</th>\
-             <th>verdict</th><th>fit χ²/dof</th><th>s to 1 % RMSE</th><th>why</th></tr>",
-        );
-        for s in v["slopes"].as_array().into_iter().flatten() {
-            let (slope, lo, hi, th) = (
-                num(&s["slope"]),
-                num(&s["ci95_low"]),
-                num(&s["ci95_high"]),
-                num(&s["theory"]),
-            );
-            let log = s["theory_log_power"].as_u64().unwrap_or(0) > 0;
-            let verdict = match s["verdict"].as_str().unwrap_or("") {
-                v @ "consistent" => format!("<span class=\"v ok\">{v}</span>"),
-                v @ ("log factor" | "pre-asymptotic") => {
-                    format!("<span class=\"v pre\">{v}</span>")
-                }
-                v @ ("infinite variance" | "no fit") => format!("<span class=\"v na\">{v}</span>"),
-                v => format!("<span class=\"v bad\">{}</span>", esc(v)),
-            };
-            let _ = write!(
-                h,
-                "<tr><td>{}</td><td>{}–{}</td><td>{slope:.2} [{lo:.2}, {hi:.2}]</td><td>{}</td>\
-                 <td>{verdict}</td><td>{:.1}</td><td>{}</td><td>{}</td></tr>",
-                esc(&text(&s["estimator"])),
-                s["n_min"],
-                s["n_max"],
-                if th.is_nan() {
-                    "–".into()
-                } else {
-                    format!("N^{th}{}", if log { " log N" } else { "" })
-                },
-                num(&s["fit_chi2_dof"]),
-                if s["verdict"] == "infinite variance" {
-                    "–".into()
-                } else {
-                    fit_sci(num(&s["seconds_to_1pct"]), 2)
-                },
-                esc(&match text(&s["error"]) {
-                    e if e.is_empty() => text(&s["theory_note"]),
-                    e => e,
-                })
-            );
-        }
-        h.push_str(
-            "</table><p>Verdicts: consistent if the theory lies in the 95 % interval widened by \
-             ±0.15; \"log factor\" if the slope is shallower than a theory with a log N factor by \
-             less than 0.5 (a plain fit over these N reads about 0.2–0.3 shallower); \
-             \"pre-asymptotic\" if the slope between the two largest N is consistent (the \
-             same widened rule); the \
-             centre densities that vanish where a segment's mean does not have infinite \
-             variance, so their \"slopes\" mean nothing (large χ²).</p>\n",
-        );
-        // Predictions.
-        let preds: Vec<&Value> = v["convergence"]
-            .as_array()
-            .into_iter()
-            .flatten()
-            .filter(|r| r["predicted_variance"].is_f64())
-            .collect();
-        if !preds.is_empty() {
-            h.push_str(
-                "<p><b>The theory applied to this pixel.</b> The integrand over the sample \
-                 domain, <code>f(u, v) = π V |sin θ| cos θ</code> on a 1024² grid, its \
-                 pre-filtered versions (segments: a box of width ℓ/π along v; lines: L(u) = ∫ f \
-                 dv on 16384 azimuths), their Fourier coefficients (NUFFT) and each sampler's \
-                 expected periodogram give the variance <code>(1/N) Σ ⟨N·P(j)⟩ |ĝ(j)|²</code> \
-                 (energy beyond the frequency grid counted as white):</p>\
-                 <table><tr><th>estimator</th><th>N</th><th>measured ± SE</th><th>predicted</th>\
-                 <th>predicted / measured</th></tr>",
-            );
-            for r in preds {
-                let (m, se, p) = (
-                    num(&r["variance"]),
-                    num(&r["variance_se"]),
-                    num(&r["predicted_variance"]),
-                );
-                let _ = write!(
-                    h,
-                    "<tr><td>{}</td><td>{}</td><td>{m:.3e} ± {se:.1e}</td><td>{p:.3e}</td>\
-                     <td>{:.3}</td></tr>",
-                    esc(&text(&r["estimator"])),
-                    r["n"],
-                    p / m
-                );
-            }
-            let figs = [
-                (
-                    "integrand",
-                    "f(u, v): u (azimuth) across, θ = π/2 at the top",
-                ),
-                ("segments-1", "pre-filtered by segments ℓ = 1"),
-                ("segments-pi", "by whole lines (ℓ = π)"),
-                (
-                    "integrand-spectrum",
-                    "|f̂(j)|², j ∈ [−128, 128]², log grey 10⁻¹² to 10⁻²",
-                ),
-                ("segments-1-spectrum", "|f̂(j)|² sinc²(j_v ℓ/π), ℓ = 1"),
-                (
-                    "mj-offsets-spectrum",
-                    "⟨N·P⟩ of multi-jittered offsets, N = 256 (log grey 10⁻² to 10^0.5)",
-                ),
-            ];
-            h.push_str("</table><div class=\"spectra\">");
-            for (name, caption) in figs {
-                let file = format!("{stem}-{name}.png");
-                if dir.join(&stem).join(&file).is_file() {
-                    let _ = write!(
-                        h,
-                        "<figure class=\"sp\"><img src=\"ao/{stem}/{file}\" \
-                         style=\"width:256px\"><figcaption>{caption}</figcaption></figure>"
-                    );
-                }
-            }
-            h.push_str("</div>\n");
-        }
     }
     h.push_str(
-        "<h3>Where theory and measurement part, and the pitfalls</h3><ul>\
+        "</table><p>Verdicts: consistent if the theory lies in the 95 % interval widened by \
+         ±0.15; \"log factor\" if the slope is shallower than a theory with a log N factor by \
+         less than 0.5 (a plain fit over these N reads about 0.2–0.3 shallower); \
+         \"pre-asymptotic\" if the slope between the two largest N is consistent (the \
+         same widened rule); the \
+         centre densities that vanish where a segment's mean does not have infinite \
+         variance, so their \"slopes\" mean nothing (large χ²).</p>\n",
+    );
+    pixel_predictions(h, &v, &dir, &stem);
+    Ok(())
+}
+
+/// The spectral predictions of a pixel beside its measurements, and the
+/// theory images the study wrote.
+fn pixel_predictions(h: &mut String, v: &Value, dir: &Path, stem: &str) {
+    // Predictions.
+    let preds: Vec<&Value> = v["convergence"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .filter(|r| r["predicted_variance"].is_f64())
+        .collect();
+    if !preds.is_empty() {
+        h.push_str(
+            "<p><b>The theory applied to this pixel.</b> The integrand over the sample \
+             domain, <code>f(u, v) = π V |sin θ| cos θ</code> on a 1024² grid, its \
+             pre-filtered versions (segments: a box of width ℓ/π along v; lines: L(u) = ∫ f \
+             dv on 16384 azimuths), their Fourier coefficients (NUFFT) and each sampler's \
+             expected periodogram give the variance <code>(1/N) Σ ⟨N·P(j)⟩ |ĝ(j)|²</code> \
+             (energy beyond the frequency grid counted as white):</p>\
+             <table><tr><th>estimator</th><th>N</th><th>measured ± SE</th><th>predicted</th>\
+             <th>predicted / measured</th></tr>",
+        );
+        for r in preds {
+            let (m, se, p) = (
+                num(&r["variance"]),
+                num(&r["variance_se"]),
+                num(&r["predicted_variance"]),
+            );
+            let _ = write!(
+                h,
+                "<tr><td>{}</td><td>{}</td><td>{m:.3e} ± {se:.1e}</td><td>{p:.3e}</td>\
+                 <td>{:.3}</td></tr>",
+                esc(&text(&r["estimator"])),
+                r["n"],
+                p / m
+            );
+        }
+        let figs = [
+            (
+                "integrand",
+                "f(u, v): u (azimuth) across, θ = π/2 at the top",
+            ),
+            ("segments-1", "pre-filtered by segments ℓ = 1"),
+            ("segments-pi", "by whole lines (ℓ = π)"),
+            (
+                "integrand-spectrum",
+                "|f̂(j)|², j ∈ [−128, 128]², log grey 10⁻¹² to 10⁻²",
+            ),
+            ("segments-1-spectrum", "|f̂(j)|² sinc²(j_v ℓ/π), ℓ = 1"),
+            (
+                "mj-offsets-spectrum",
+                "⟨N·P⟩ of multi-jittered offsets, N = 256 (log grey 10⁻² to 10^0.5)",
+            ),
+        ];
+        h.push_str("</table><div class=\"spectra\">");
+        for (name, caption) in figs {
+            let file = format!("{stem}-{name}.png");
+            if dir.join(&stem).join(&file).is_file() {
+                let _ = write!(
+                    h,
+                    "<figure class=\"sp\"><img src=\"ao/{stem}/{file}\" \
+                     style=\"width:256px\"><figcaption>{caption}</figcaption></figure>"
+                );
+            }
+        }
+        h.push_str("</div>\n");
+    }
+}
+
+/// Where theory and measurement part, and the pitfalls.
+const PITFALLS: &str = "<h3>Where theory and measurement part, and the pitfalls</h3><ul>\
          <li><b>The integrand is not periodic in φ.</b> The half-plane at φ + π is the one at φ \
          traversed the other way: <code>f(u + 1, v) = f(u, 1 − v)</code>. On the torus the \
          samples live on, the seam u = 0 is a straight jump parallel to the segments (the \
@@ -277,10 +299,18 @@ pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String
          <li><b>Prediction limits.</b> The prediction uses frequencies |j| ≤ 128 in 2D: for \
          multi-jittered whole-line segments above N ≈ 256 the sampling spectrum is still \
          suppressed along the j_u axis beyond the grid, so the white tail over-predicts.</li>\
-         </ul>\n",
-    );
-    if mode == Mode::Reduced {
-        h.push_str("<p><b>Reduced mode: tiny images and few realisations; do not cite.</b></p>\n");
-    }
-    Ok(h)
+         </ul>\n";
+
+/// The records of the CSV at `path` (its header first).
+///
+/// # Errors
+/// A file that cannot be read or parsed, naming it.
+pub(super) fn read_csv(path: &Path) -> Result<Vec<csv::StringRecord>, String> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    rdr.records()
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
