@@ -203,7 +203,7 @@ fn pixel_section(h: &mut String, dir: &Path, x: u32, y: u32) -> Result<(), Strin
          centre densities that vanish where a segment's mean does not have infinite \
          variance, so their \"slopes\" mean nothing (large χ²).</p>\n",
     );
-    pixel_predictions(h, &v, &dir, &stem);
+    pixel_predictions(h, &v, dir, &stem);
     Ok(())
 }
 
@@ -263,7 +263,7 @@ fn pixel_predictions(h: &mut String, v: &Value, dir: &Path, stem: &str) {
         h.push_str("</table><div class=\"spectra\">");
         for (name, caption) in figs {
             let file = format!("{stem}-{name}.png");
-            if dir.join(&stem).join(&file).is_file() {
+            if dir.join(stem).join(&file).is_file() {
                 let _ = write!(
                     h,
                     "<figure class=\"sp\"><img src=\"ao/{stem}/{file}\" \
