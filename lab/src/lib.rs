@@ -18,8 +18,10 @@
 //! - [`runner`]: the one runner (parallel, resumable, shardable, with
 //!   progress).
 //! - [`experiments`]: `patterns`, `gallery`, `spectrum`, `convergence`,
-//!   `paper`, the scene experiments (`scene`, `direct`, `caustic` and the
-//!   AO model they share) and `merge`.
+//!   `paper`, the scene experiments (`scene`, `direct`, `caustic`, over the
+//!   one image run `images` and the one convergence study `study` they
+//!   share, and the AO model) and `merge`.
+//! - [`scene`]: scene files of every effect (one entry, `parse_any`).
 //! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
 //! - [`figures`]: plots (`plotters`, SVG) and PNG images.
 //! - [`fit`]: weighted log-log fits.

@@ -87,9 +87,10 @@ a log scale 8 decades below the mean E squared), orientation-map.png (red: lines
 along edge 1 have the smaller variance, blue: edge 2; A and B marked), sheet.png,
 images.csv (as above), pixels.json (A, B, and P1, P2 with the shadow edge's angle,
 length and turn N*), orientation.csv (pixel,x,y,estimator,slope,slope_ci_low,
-slope_ci_high; jittered), and OUT/pixels/: rows.csv (per pixel, estimator, sampler
-and N: mean, bias z, variance and its SE, seconds per estimate), slopes.csv (fit,
-95 % interval, slope of the last two N, seconds to 1 % relative RMSE),
+slope_ci_high; jittered), and OUT/pixels/: rows.csv (query,x,y,estimator,sampler,n,
+realisations, mean, bias z, variance and its SE, seconds per estimate, error: the
+same columns for every study), slopes.csv (fit, 95 % interval, slope of the last
+two N, seconds to 1 % relative RMSE),
 convergence-<pixel>.svg, time-to-error-<pixel>.svg, manifest.json.
 
 Volumetric caustic (OUT/): fluence.png (sigma_s times the fluence, log scale over
@@ -98,12 +99,14 @@ four decades below the peak, black to white; the glass outlined grey and Q cyan;
 fluence.json (frame, beams, peak and where, power scattered inside the image,
 seconds), caustics.csv (dims,estimator,sampler,slope,slope_ci_low,slope_ci_high:
 variance vs N fitted over the three largest N, 95 % interval), and OUT/study/:
-rows.csv (per estimator, sampler and N: mean, bias z against the reference,
-variance and its SE, seconds per estimate), slopes.csv (the fit, the expected
+rows.csv (as for direct light, query Q), slopes.csv (the fit, the expected
 rate and its log-factor end, the fit over every N, the slope of the last two N,
 the largest |z|, N and seconds to 1 % relative RMSE), convergence.svg,
 time-to-error.svg, manifest.json. The image is rendered again by a rerun (seconds);
 the study resumes.
+
+A study cell that fails (a kernel error or a non-finite estimate) is a row with
+its error; the other rows complete and the command exits non-zero naming it.
 
 Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
 `linesample-lab --help`). All files of a run are written as one group at the end.
