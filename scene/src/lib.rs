@@ -12,6 +12,8 @@
 //!   light (Billen & Dutré 2016), with the exact visibility of convex
 //!   occluder faces projected onto the light's plane, in `f64` and as an
 //!   `f32` SIMD batch;
+//! * [`camera`]: the pinhole camera of the scene files (pbrt's
+//!   conventions), whose ray per pixel finds the shading point;
 //! * [`caustic`]: photon points and photon beams through a glass ball
 //!   (Snell refraction, Fresnel splitting) into a homogeneous medium,
 //!   scored in a query ball (volumetric caustics; Jarosz et al. 2011).
@@ -40,6 +42,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod camera;
 pub mod caustic;
 pub mod direct_light;
 pub mod direct_light_f32;

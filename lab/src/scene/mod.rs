@@ -166,24 +166,7 @@ impl SceneSource {
     }
 }
 
-/// A pinhole camera (pbrt's `LookAt` and `perspective` conventions: pixel
-/// `(0, 0)` is the top left, the ray of pixel `(x, y)` goes through its
-/// centre).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Camera {
-    /// The eye.
-    pub from: [f64; 3],
-    /// The point looked at.
-    pub at: [f64; 3],
-    /// The up direction (not parallel to `at − from`).
-    pub up: [f64; 3],
-    /// Vertical field of view, degrees, in `(0, 180)`.
-    pub fov_deg: f64,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-}
+pub use linesample_scene::camera::Camera;
 
 /// A sphere of the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -988,40 +971,6 @@ fn parse_orientations(
         v.push(or);
     }
     Ok(v)
-}
-
-impl Camera {
-    /// The camera ray through raster point `(x, y)` (pixel `(i, j)` has its
-    /// centre at `(i + 0.5, j + 0.5)`; `(0, 0)` is the top left corner):
-    /// `(origin, unit direction)`. pbrt-v3's conventions: `LookAt` makes the
-    /// camera frame `right = up × dir`, `up' = dir × right` (so the image's
-    /// right is `up × dir`, e.g. world `−x` for a camera looking down `−z`),
-    /// and the perspective screen window is `[−a, a] × [−1, 1]` for aspect
-    /// `a = width/height ≥ 1` (`[−1, 1] × [−1/a, 1/a]` otherwise), scaled by
-    /// `tan(fov/2)`: the field of view spans the shorter image axis (the
-    /// vertical one for square and landscape images).
-    #[must_use]
-    pub fn ray(&self, x: f64, y: f64) -> ([f64; 3], [f64; 3]) {
-        let dir = unit(sub(self.at, self.from));
-        let right = unit(cross(unit(self.up), dir));
-        let up = cross(dir, right);
-        let (w, h) = (f64::from(self.width), f64::from(self.height));
-        let aspect = w / h;
-        let (sx, sy) = if aspect >= 1.0 {
-            (aspect, 1.0)
-        } else {
-            (1.0, 1.0 / aspect)
-        };
-        let t = (0.5 * self.fov_deg.to_radians()).tan();
-        let cx = (-sx + 2.0 * sx * x / w) * t;
-        let cy = (sy - 2.0 * sy * y / h) * t;
-        let d = unit([
-            cx * right[0] + cy * up[0] + dir[0],
-            cx * right[1] + cy * up[1] + dir[1],
-            cx * right[2] + cy * up[2] + dir[2],
-        ]);
-        (self.from, d)
-    }
 }
 
 /// Where a camera ray meets the scene first: the shading point, its unit
