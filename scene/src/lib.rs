@@ -16,7 +16,8 @@
 //!   conventions), whose ray per pixel finds the shading point;
 //! * [`caustic`]: photon points and photon beams through a glass ball
 //!   (Snell refraction, Fresnel splitting) into a homogeneous medium,
-//!   scored in a query ball (volumetric caustics; Jarosz et al. 2011).
+//!   scored in a query ball (volumetric caustics; Jarosz et al. 2011),
+//!   and [`fluence`], their paths splatted into a fluence image;
 //!
 //! They build on the kernel's shapes ([`linesample::world`]: spheres,
 //! rays, planes, Gaussians), its numeric core and its lane abstraction, so
@@ -46,6 +47,7 @@ pub mod camera;
 pub mod caustic;
 pub mod direct_light;
 pub mod direct_light_f32;
+pub mod fluence;
 pub mod occlusion;
 pub mod occlusion_f32;
 

@@ -37,7 +37,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::Seed;
-use linesample_scene::caustic::{Caustic, PhotonPath};
+use linesample_scene::caustic::Caustic;
+use linesample_scene::fluence::{splat_path2, splat_path3, Frame};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -641,142 +642,6 @@ fn reproduce(cfg: &StudyConfig) -> String {
 
 // ---------------------------------------------------------------- image
 
-/// The fluence image's pixel grid (the plane, or the slab's `x, y`).
-#[derive(Clone, Copy, Debug)]
-struct Frame {
-    x0: f64,
-    y0: f64,
-    px: f64,
-    py: f64,
-    w: usize,
-    h: usize,
-}
-
-/// Adds the scattered power of the ray `o + t·d`, `t ∈ [t0, t1]` (medium
-/// offset `tau`, weight `w`), to every pixel it crosses: per pixel interval
-/// `[ta, tb]`, `w e^{−σ_t(τ + ta)}(1 − e^{−σ_t(tb − ta)})` (Amanatides & Woo
-/// 1987 grid traversal). Only the `x, y` components of `o` and `d` are used.
-// `!(hi > lo)` also catches NaN.
-#[allow(clippy::too_many_arguments, clippy::neg_cmp_op_on_partial_ord)]
-fn splat(
-    grid: &mut [f64],
-    f: &Frame,
-    o: [f64; 2],
-    d: [f64; 2],
-    t0: f64,
-    t1: f64,
-    tau: f64,
-    w: f64,
-    st: f64,
-) {
-    // Clip to the frame (slab method).
-    let (mut lo, mut hi) = (t0, t1);
-    let bounds = [
-        (f.x0, f.x0 + f.px * f.w as f64),
-        (f.y0, f.y0 + f.py * f.h as f64),
-    ];
-    for j in 0..2 {
-        let (a, b) = bounds[j];
-        if d[j] == 0.0 {
-            if !(o[j] >= a && o[j] < b) {
-                return;
-            }
-        } else {
-            let (ta, tb) = ((a - o[j]) / d[j], (b - o[j]) / d[j]);
-            lo = lo.max(ta.min(tb));
-            hi = hi.min(ta.max(tb));
-        }
-    }
-    if !(hi > lo) {
-        return;
-    }
-    let cell = |j: usize, t: f64| -> i64 {
-        let (origin, size, n) = if j == 0 {
-            (f.x0, f.px, f.w)
-        } else {
-            (f.y0, f.py, f.h)
-        };
-        (((o[j] + t * d[j] - origin) / size).floor() as i64).clamp(0, n as i64 - 1)
-    };
-    // On a grid line the floor may name the cell behind: its interval is
-    // empty and the traversal steps on.
-    let mut idx = [cell(0, lo), cell(1, lo)];
-    let sizes = [f.px, f.py];
-    let origins = [f.x0, f.y0];
-    let mut t_max = [f64::INFINITY; 2];
-    let mut t_delta = [f64::INFINITY; 2];
-    let mut step = [0i64; 2];
-    for j in 0..2 {
-        if d[j] > 0.0 {
-            step[j] = 1;
-            t_max[j] = (origins[j] + (idx[j] + 1) as f64 * sizes[j] - o[j]) / d[j];
-            t_delta[j] = sizes[j] / d[j];
-        } else if d[j] < 0.0 {
-            step[j] = -1;
-            t_max[j] = (origins[j] + idx[j] as f64 * sizes[j] - o[j]) / d[j];
-            t_delta[j] = -sizes[j] / d[j];
-        }
-    }
-    let mut t = lo;
-    loop {
-        let tn = t_max[0].min(t_max[1]).min(hi);
-        if tn > t {
-            let row = f.h - 1 - idx[1] as usize;
-            grid[row * f.w + idx[0] as usize] +=
-                w * (-st * (tau + t)).exp() * -(-st * (tn - t)).exp_m1();
-            t = tn;
-        }
-        if t >= hi {
-            return;
-        }
-        let j = usize::from(t_max[1] < t_max[0]);
-        idx[j] += step[j];
-        if idx[j] < 0 || idx[j] >= if j == 0 { f.w } else { f.h } as i64 {
-            return;
-        }
-        t_max[j] += t_delta[j];
-    }
-}
-
-/// Splats every segment of `path` (2D).
-fn splat_path2(grid: &mut [f64], f: &Frame, path: &PhotonPath<2>, st: f64) {
-    for s in path.segments() {
-        let (o, d) = (s.ray.origin(), s.ray.dir().get());
-        splat(grid, f, o, d, 0.0, s.length, s.start, s.weight, st);
-    }
-}
-
-/// Splats every segment of `path` clipped to the slab `|z − z0| < half` (3D).
-fn splat_path3(grid: &mut [f64], f: &Frame, path: &PhotonPath<3>, st: f64, z0: f64, half: f64) {
-    for s in path.segments() {
-        let (o, d) = (s.ray.origin(), s.ray.dir().get());
-        let (mut lo, mut hi) = (0.0f64, s.length);
-        if d[2] == 0.0 {
-            if (o[2] - z0).abs() >= half {
-                continue;
-            }
-        } else {
-            let ta = (z0 - half - o[2]) / d[2];
-            let tb = (z0 + half - o[2]) / d[2];
-            lo = lo.max(ta.min(tb));
-            hi = hi.min(ta.max(tb));
-        }
-        if hi > lo {
-            splat(
-                grid,
-                f,
-                [o[0], o[1]],
-                [d[0], d[1]],
-                lo,
-                hi,
-                s.start,
-                s.weight,
-                st,
-            );
-        }
-    }
-}
-
 /// `fluence.json`.
 #[derive(Serialize)]
 struct FluenceSummary<'a> {
@@ -894,14 +759,7 @@ pub fn run_image(
     let fl = &scene.fluence;
     let (w, h) = resolution.unwrap_or((fl.width, fl.height));
     let (w, h) = (w as usize, h as usize);
-    let f = Frame {
-        x0: fl.centre[0] - 0.5 * fl.size[0],
-        y0: fl.centre[1] - 0.5 * fl.size[1],
-        px: fl.size[0] / w as f64,
-        py: fl.size[1] / h as f64,
-        w,
-        h,
-    };
+    let f = Frame::new([fl.centre[0], fl.centre[1]], fl.size, w, h);
     let m = usize::try_from(beams.unwrap_or(fl.beams))
         .map_err(|_| "fluence.beams: too many for this machine")?;
     let k = scene.dims - 1;
