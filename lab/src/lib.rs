@@ -32,8 +32,6 @@
 //!   `linesample-lab spectrum --input` reads (text in, points or an error
 //!   naming the line and column out).
 
-pub mod ao;
-
 pub mod cli;
 pub mod commands;
 mod dims;

@@ -58,17 +58,9 @@ impl Primitive {
     }
 }
 
-/// The density of the sample centres over the hemisphere.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum CentrePdf {
-    /// Uniform in `(φ, θ)`.
-    Uniform,
-    /// Uniform in solid angle.
-    SolidAngle,
-    /// Cosine-weighted.
-    Cosine,
-}
+/// The density of the sample centres over the hemisphere (the scene
+/// crate's, with `serde` and `clap::ValueEnum`).
+pub use linesample_scene::ao::CentrePdf;
 
 /// The sample patterns of a scene's estimators.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
@@ -84,18 +76,6 @@ pub enum SceneSampler {
     Cmj,
     /// Owen-scrambled Sobol′.
     Sobol,
-}
-
-impl CentrePdf {
-    /// The name a scene file uses.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            CentrePdf::Uniform => "uniform",
-            CentrePdf::SolidAngle => "solid-angle",
-            CentrePdf::Cosine => "cosine",
-        }
-    }
 }
 
 impl SceneSampler {

@@ -1,4 +1,4 @@
-//! The AO estimators of `linesample_lab::ao` at the paper's two pixels.
+//! The AO estimators of `linesample_scene::ao` at the paper's two pixels.
 //!
 //! Unbiasedness in `θ` is checked deterministically: for a fixed azimuth the
 //! centre coordinate `v` is the density's CDF, so `∫_0^1 estimate dv` must
@@ -8,8 +8,8 @@
 //! cosine density's segment estimates are singular at the normal and the
 //! horizon).
 
-use linesample_lab::ao::{self, AoEstimator, Frame};
 use linesample_lab::scene::{self, CentrePdf, Primitive};
+use linesample_scene::ao::{self, AoEstimator, Frame, Sample};
 use std::path::Path;
 
 fn frame_at(px: f64, py: f64) -> (Vec<linesample::world::Sphere<3>>, f64, Frame) {
@@ -27,12 +27,21 @@ fn frame_at(px: f64, py: f64) -> (Vec<linesample::world::Sphere<3>>, f64, Frame)
     (spheres, max_distance, Frame::new(h.point, h.normal))
 }
 
-/// The line estimator (the density and length do not apply to it).
+/// The line estimator (the density does not apply to it).
 const LINE: AoEstimator = AoEstimator {
-    primitive: Primitive::Lines,
-    length: std::f64::consts::PI,
+    sample: Sample::Line,
     pdf: CentrePdf::Uniform,
 };
+
+/// The estimator of `primitive` (with its segment `length`) and `pdf`.
+fn est_of(primitive: Primitive, length: f64, pdf: CentrePdf) -> AoEstimator {
+    let sample = match primitive {
+        Primitive::Points => Sample::Point,
+        Primitive::Segments => Sample::Segment { length },
+        Primitive::Lines => Sample::Line,
+    };
+    AoEstimator { sample, pdf }
+}
 
 /// `∫_0^1 f(v) dv` by the midpoint rule in `α` with `v = ½ ± ½ sin²α`
 /// (`dv = sin α cos α dα`, `α ∈ [0, π/2]`), `n` points per half: the
@@ -66,11 +75,7 @@ fn every_estimator_is_unbiased_in_theta() {
                     cases.push((Primitive::Segments, l));
                 }
                 for (primitive, length) in cases {
-                    let est = AoEstimator {
-                        primitive,
-                        length,
-                        pdf,
-                    };
+                    let est = est_of(primitive, length, pdf);
                     let got = mean_over_v(20_000, |v| {
                         ao::sample(&spheres, max_d, &frame, &est, u, v, &mut scratch).unwrap()
                     });
@@ -143,18 +148,10 @@ fn every_estimator_and_sampler_averages_to_the_reference() {
         let reference = scene::ao_lines(&spheres, max_d, frame.point, frame.normal, &phis).unwrap();
         let mut ests = vec![LINE];
         for pdf in [CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine] {
-            ests.push(AoEstimator {
-                primitive: Primitive::Points,
-                length: 0.0,
-                pdf,
-            });
+            ests.push(est_of(Primitive::Points, 0.0, pdf));
             if pdf != CentrePdf::Cosine {
                 for l in [0.1, 1.0, std::f64::consts::PI] {
-                    ests.push(AoEstimator {
-                        primitive: Primitive::Segments,
-                        length: l,
-                        pdf,
-                    });
+                    ests.push(est_of(Primitive::Segments, l, pdf));
                 }
             }
         }
@@ -225,11 +222,7 @@ fn no_centre_makes_an_estimate_non_finite() {
                 (Primitive::Segments, 1.0),
                 (Primitive::Segments, std::f64::consts::PI),
             ] {
-                let est = AoEstimator {
-                    primitive,
-                    length,
-                    pdf,
-                };
+                let est = est_of(primitive, length, pdf);
                 for u in [0.0, 0.25, 0.5, 0.75] {
                     for v in [0.0, tiny, below_half, 0.5, above_half, below_one, 1.0] {
                         let e =

@@ -2,6 +2,8 @@
 //! in closed form along the samples a scene asks for. Nothing else is
 //! simulated: a scene names its geometry and one effect.
 //!
+//! * [`ao`]: the AO estimators at a shading point (points, segments and
+//!   lines in the half-plane parameterisation, for each centre density);
 //! * [`occlusion`] ([`HalfPlane`]) and [`occlusion_f32`] ([`AoPoint32`]):
 //!   ambient occlusion by spheres, one half-plane through the shading
 //!   point's normal at a time (the angles a sphere occludes, and the
@@ -43,6 +45,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+pub mod ao;
 pub mod camera;
 pub mod caustic;
 pub mod direct_light;

@@ -3,11 +3,11 @@
 //! camera sees (the shading point of a pixel, its frame and the spheres).
 //! The experiments ([`super::scene`], [`super::scene_theory`]) build on it.
 
-use crate::ao::{self, AoEstimator, Frame};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::{CentrePdf, Effect, Primitive, Scene, SceneSampler};
 use linesample::world::Sphere;
 use linesample::Seed;
+use linesample_scene::ao::{self, AoEstimator, Frame, Sample};
 use linesample_scene::occlusion_f32::AoPoint32;
 use serde::{Deserialize, Serialize};
 
@@ -32,8 +32,13 @@ impl EstimatorSpec {
     #[must_use]
     pub fn ao(&self) -> AoEstimator {
         AoEstimator {
-            primitive: self.primitive,
-            length: self.length,
+            sample: match self.primitive {
+                Primitive::Points => Sample::Point,
+                Primitive::Segments => Sample::Segment {
+                    length: self.length,
+                },
+                Primitive::Lines => Sample::Line,
+            },
             pdf: self.pdf,
         }
     }
@@ -231,7 +236,8 @@ impl World {
                 f64::from(p[0]),
                 f64::from(p[1]),
                 scratch,
-            )?;
+            )
+            .map_err(|e| format!("shading frame or scratch: {e}"))?;
         }
         Ok(sum / uv.len() as f64)
     }
@@ -257,6 +263,7 @@ impl World {
             v,
             scratch,
         )
+        .map_err(|e| format!("shading frame or scratch: {e}"))
     }
 
     /// Number of spheres (scratch holds twice as many intervals).

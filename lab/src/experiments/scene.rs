@@ -4,7 +4,7 @@
 //!
 //! Both run through the [`crate::runner`] (resume, `--shard`, `merge`,
 //! progress). Every estimate is the closed-form visibility of
-//! [`linesample_scene::HalfPlane`] through [`crate::ao::sample`]: no ray is
+//! [`linesample_scene::HalfPlane`] through [`linesample_scene::ao::sample`]: no ray is
 //! traced except the camera ray that finds each pixel's shading point.
 //!
 //! **Images** (cells: blocks of rows). Per pixel: the reference (lines with

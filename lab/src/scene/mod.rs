@@ -1051,7 +1051,7 @@ pub fn ao_lines(
     normal: [f64; 3],
     phis: &[f64],
 ) -> Result<f64, String> {
-    let t = crate::ao::Frame::new(point, normal).tangent;
+    let t = linesample_scene::ao::Frame::new(point, normal).tangent;
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     let mut sum = 0.0;
     for &phi in phis {

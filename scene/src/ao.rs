@@ -24,28 +24,68 @@
 //! every `t` is covered by the centres within `ℓ/2` of it, of total measure
 //! `ℓ`; a line uses `u` only and gives `∫ g dθ · π = ∫ V|sin θ|cos θ dθ`.
 //! The visible measures are the kernel's closed forms
-//! ([`linesample_scene::HalfPlane::visible_wrapped`]).
+//! ([`HalfPlane::visible_wrapped`]).
 //!
 //! The solid-angle and cosine densities with a segment divide by
 //! `p_θ(θ_c)`, which is 0 at the normal while the segment's mean is not: the
 //! estimate has infinite (log-divergent) variance, visible for long segments
 //! (the pitfall the scene report shows).
 
+use core::f64::consts::{FRAC_PI_2, PI};
 use linesample::world::Sphere;
-use linesample_scene::HalfPlane;
-use std::f64::consts::{FRAC_PI_2, PI};
+use linesample::ParamError;
 
-use crate::spec::{CentrePdf, Primitive};
+use crate::HalfPlane;
 
-/// One AO estimator: a primitive (with its segment length in `θ`) and a
-/// centre density.
+/// The density of the sample centres over the hemisphere, `p_θ` above.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum CentrePdf {
+    /// Uniform in `(φ, θ)`.
+    Uniform,
+    /// Uniform in solid angle.
+    SolidAngle,
+    /// Cosine-weighted.
+    Cosine,
+}
+
+impl CentrePdf {
+    /// The name a scene file uses.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            CentrePdf::Uniform => "uniform",
+            CentrePdf::SolidAngle => "solid-angle",
+            CentrePdf::Cosine => "cosine",
+        }
+    }
+}
+
+/// What one sample is: a point `(φ, θ_c)`, a segment of length `ℓ` in `θ`
+/// centred at `θ_c`, or the whole line (half-plane) at `φ`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sample {
+    /// A point.
+    Point,
+    /// A segment of length `length` in `(0, π]` (`π`: the whole line,
+    /// wrapped).
+    Segment {
+        /// `ℓ`.
+        length: f64,
+    },
+    /// The whole line: `u` only.
+    Line,
+}
+
+/// One AO estimator: its sample and the density of the sample centres
+/// (points and segments; a line has none).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct AoEstimator {
-    /// Points, segments or lines.
-    pub primitive: Primitive,
-    /// Segment length in `θ`, in `(0, π]` (segments only).
-    pub length: f64,
-    /// Density of the sample centres (points and segments).
+    /// Point, segment or line.
+    pub sample: Sample,
+    /// Density of the sample centres.
     pub pdf: CentrePdf,
 }
 
@@ -69,7 +109,7 @@ impl Frame {
     /// least aligned with it.
     #[must_use]
     pub fn new(point: [f64; 3], normal: [f64; 3]) -> Self {
-        let tangent = if normal[0].abs() < 0.9 {
+        let tangent = if libm::fabs(normal[0]) < 0.9 {
             [1.0, 0.0, 0.0]
         } else {
             [0.0, 1.0, 0.0]
@@ -90,15 +130,15 @@ pub fn centre_theta(pdf: CentrePdf, v: f64) -> (f64, f64) {
         CentrePdf::Uniform => (PI * (v - 0.5), 1.0 / PI),
         CentrePdf::SolidAngle => {
             let s = 2.0 * v - 1.0;
-            let a = (1.0 - s.abs()).clamp(-1.0, 1.0).acos();
-            let t = a.copysign(s);
-            (t, 0.5 * t.sin().abs())
+            let a = libm::acos((1.0 - libm::fabs(s)).clamp(-1.0, 1.0));
+            let t = libm::copysign(a, s);
+            (t, 0.5 * libm::fabs(libm::sin(t)))
         }
         CentrePdf::Cosine => {
             let s = 2.0 * v - 1.0;
-            let a = s.abs().sqrt().min(1.0).asin();
-            let t = a.copysign(s);
-            (t, t.sin().abs() * t.cos())
+            let a = libm::asin(libm::sqrt(libm::fabs(s)).min(1.0));
+            let t = libm::copysign(a, s);
+            (t, libm::fabs(libm::sin(t)) * libm::cos(t))
         }
     }
 }
@@ -118,7 +158,8 @@ pub fn centre_theta(pdf: CentrePdf, v: f64) -> (f64, f64) {
 /// because of that neighbourhood, and the studies report them as such.
 ///
 /// # Errors
-/// A degenerate frame or a too-short `scratch` (the kernel's messages).
+/// [`ParamError::ZeroDirection`] for a degenerate frame (a zero or
+/// non-finite normal), and the kernel's error for a too-short `scratch`.
 pub fn sample(
     spheres: &[Sphere<3>],
     max_distance: f64,
@@ -127,35 +168,30 @@ pub fn sample(
     u: f64,
     v: f64,
     scratch: &mut [(f64, f64)],
-) -> Result<f64, String> {
-    let hp = frame
-        .base
-        .ok_or("shading frame: the normal is zero or not finite")?
-        .rotated(PI * u);
+) -> Result<f64, ParamError> {
+    let hp = frame.base.ok_or(ParamError::ZeroDirection)?.rotated(PI * u);
     let vis = |t0: f64, len: f64, s: &mut [(f64, f64)]| {
         hp.visible_wrapped(spheres, max_distance, t0, len, s)
-            .map_err(|e| e.to_string())
     };
-    match est.primitive {
-        Primitive::Lines => vis(-FRAC_PI_2, PI, scratch),
-        Primitive::Points => {
+    match est.sample {
+        Sample::Line => vis(-FRAC_PI_2, PI, scratch),
+        Sample::Point => {
             let (t, pt) = centre_theta(est.pdf, v);
             if pt <= 0.0 {
                 // The density vanishes only where g does (θ = 0 for the
                 // solid-angle and cosine densities, ±π/2 for the cosine one).
                 return Ok(0.0);
             }
-            let g = t.sin().abs() * t.cos() / PI;
+            let g = libm::fabs(libm::sin(t)) * libm::cos(t) / PI;
             let visible = hp.sees(spheres, max_distance, t);
             Ok(if visible { g / (pt / PI) } else { 0.0 })
         }
-        Primitive::Segments => {
+        Sample::Segment { length: len } => {
             let (t, pt) = centre_theta(est.pdf, v);
             if pt <= 0.0 {
                 // A measure-zero set of centres: see the function's docs.
                 return Ok(0.0);
             }
-            let len = est.length;
             let m = vis(t - 0.5 * len, len, scratch)? / (PI * len);
             if m == 0.0 {
                 return Ok(0.0);
