@@ -9,21 +9,22 @@ use crate::integrand::{
 use crate::io;
 use crate::sampler::Sampler;
 use crate::spec::{Primitive, ShiftMode};
+use crate::{LabError, Result};
 use std::path::PathBuf;
 
 /// Resolves the command line into a configuration and the output prefix.
 ///
 /// # Errors
 /// A message naming the offending option.
-pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
+pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf)> {
     let dims = usize::from(a.dims);
     let ia = &a.integrand;
     let kind = ia.integrand;
     let got_integrand = format!("--integrand {}", kind.name());
     if kind == IntegrandKind::Disk && dims != 2 {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--dims {dims}: --integrand disk is 2D only; use --integrand ball for --dims 3"
-        ));
+        )));
     }
     let is_ball = matches!(kind, IntegrandKind::Disk | IntegrandKind::Ball);
     if ia.radius.is_some() && !is_ball {
@@ -54,11 +55,11 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
         IntegrandKind::Edge => {
             let normal = match &ia.normal {
                 Some(v) if v.len() != dims => {
-                    return Err(format!(
+                    return Err(LabError::Usage(format!(
                         "--normal has {} component(s) but --dims is {dims}: give {dims} \
                          comma-separated numbers",
                         v.len()
-                    ))
+                    )))
                 }
                 Some(v) => v.clone(),
                 None if dims == 2 => vec![0.7, 1.0],
@@ -95,17 +96,19 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
         DirSpec::Random
     } else if let Some(k) = a.groups {
         if k == 0 {
-            return Err("--groups 0: expected at least 1 direction group".into());
+            return Err(LabError::Usage(
+                "--groups 0: expected at least 1 direction group".into(),
+            ));
         }
         DirSpec::Groups(k)
     } else {
         match &pa.direction {
             Some(v) if v.len() != dims => {
-                return Err(format!(
+                return Err(LabError::Usage(format!(
                     "--direction has {} component(s) but --dims is {dims}: give {dims} \
                      comma-separated numbers",
                     v.len()
-                ))
+                )))
             }
             Some(v) => DirSpec::Fixed(v.clone()),
             None => {
@@ -125,27 +128,29 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
     if !sampler.dims().contains(&pdims) {
         let ds: Vec<String> = sampler.dims().iter().map(ToString::to_string).collect();
         return Err(if prim == Primitive::Lines {
-            format!(
+            LabError::Usage(format!(
                 "--sampler {sampler} cannot place line offsets for --dims {dims}: lines need a \
                  {pdims}D pattern and {sampler} supports only {}D",
                 ds.join("D, ")
-            )
+            ))
         } else {
-            format!(
+            LabError::Usage(format!(
                 "--dims {dims}: --sampler {sampler} supports only --dims {}",
                 ds.join(", ")
-            )
+            ))
         });
     }
     if a.realisations < 4 {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--realisations {}: expected at least 4 (the standard error of the variance \
              needs 4 realisations)",
             a.realisations
-        ));
+        )));
     }
     if a.n.is_empty() {
-        return Err("--n: expected at least one sample count".into());
+        return Err(LabError::Usage(
+            "--n: expected at least one sample count".into(),
+        ));
     }
     let groups = match dirs {
         DirSpec::Groups(k) => k,
@@ -155,13 +160,13 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
     let mut rows: Vec<Row> = Vec::new();
     for &requested in &a.n {
         if requested == 0 {
-            return Err("--n 0: every N must be at least 1".into());
+            return Err(LabError::Usage("--n 0: every N must be at least 1".into()));
         }
         if requested < groups {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--n {requested}: fewer samples than --groups {groups} (every group needs at \
                  least one primitive)"
-            ));
+            )));
         }
         let mut per_group = ((requested as f64) / groups as f64).round().max(1.0) as usize;
         let mut why = Vec::new();
@@ -197,7 +202,7 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
         }
         let n = per_group * groups;
         if let Some(prev) = rows.iter().find(|r| r.n == n) {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--n: {} and {requested} both give N = {n}{}; give distinct sample counts",
                 prev.requested,
                 if sampler == Sampler::Jittered {
@@ -205,7 +210,7 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
                 } else {
                     " after rounding"
                 }
-            ));
+            )));
         }
         rows.push(Row {
             requested,
@@ -236,14 +241,17 @@ pub fn resolve(a: &ConvergenceArgs) -> Result<(Config, PathBuf), String> {
 ///
 /// # Errors
 /// A message naming the offending option, file or cell.
-pub fn main(a: &ConvergenceArgs) -> Result<(), String> {
+pub fn main(a: &ConvergenceArgs) -> Result<()> {
     let (config, out) = resolve(a)?;
     let exp = Convergence::new(config)?;
     let opts = a.run.options();
-    run_to_files(
+    Ok(run_to_files(
         &exp,
         &out,
         &opts,
-        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            complete(e, &c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }

@@ -3,25 +3,28 @@
 use crate::caustic_scene::{self};
 use crate::cli::*;
 use crate::experiments::caustic::*;
+use crate::{LabError, Result};
 
 /// `linesample-lab scene FILE` for a volumetric-caustic scene whose file
 /// holds `text`.
 ///
 /// # Errors
 /// A scene error, a bad option or a run error.
-pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
-    let scene = caustic_scene::parse(&a.file, &text).map_err(|e| e.to_string())?;
+pub fn main(a: &SceneArgs, text: String) -> Result<()> {
+    let scene = caustic_scene::parse(&a.file, &text)?;
     let source = CausticSource {
         path: a.file.display().to_string(),
         text,
     };
     if a.pixel.is_some() {
-        return Err("--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into());
+        return Err(LabError::Usage(
+            "--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into(),
+        ));
     }
     let out = a.out.clone().unwrap_or_else(|| default_out(&a.file));
     let opts = a.run.options();
     let samplers = a.samplers.clone().unwrap_or_else(|| scene.samplers.clone());
-    run_all(
+    Ok(run_all(
         source,
         a.resolution,
         None,
@@ -34,5 +37,5 @@ pub fn main(a: &SceneArgs, text: String) -> Result<(), String> {
         a.run.shift.shift,
         &out,
         &opts,
-    )
+    )?)
 }

@@ -7,6 +7,7 @@ use crate::io;
 use crate::sampler::PatternSpec;
 use crate::spec::{Primitive, ShiftMode};
 use crate::with_dims;
+use crate::{LabError, Result};
 use std::path::PathBuf;
 
 /// Resolves the command line: the configuration, the loaded input files (if
@@ -14,24 +15,27 @@ use std::path::PathBuf;
 ///
 /// # Errors
 /// A message naming the offending option or file.
-pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
+pub fn resolve(a: &SpectrumArgs) -> Result<Resolved> {
     let mut notes = Vec::new();
     let pa = &a.primitive;
     let prim = pa.primitive;
     let tol = match (a.method, a.tol) {
         (Method::Direct, Some(_)) => {
-            return Err("--tol applies to --method nufft only (the direct method is exact)".into())
+            return Err(LabError::Usage(
+                "--tol applies to --method nufft only (the direct method is exact)".into(),
+            ))
         }
         (Method::Direct, None) => 0.0,
         (Method::Nufft, t) => {
             let t = t.unwrap_or(DEFAULT_TOL);
             if !(1e-14..=1e-1).contains(&t) {
-                return Err(format!("--tol {t}: expected a number in [1e-14, 1e-1]"));
+                return Err(LabError::Usage(format!(
+                    "--tol {t}: expected a number in [1e-14, 1e-1]"
+                )));
             }
             if prim == Primitive::Segments {
-                return Err("--method nufft supports --primitive points and lines; \
-                            segment weights sinc(L nu.omega) depend on the frequency: use --method direct"
-                    .into());
+                return Err(LabError::Usage("--method nufft supports --primitive points and lines; \
+                            segment weights sinc(L nu.omega) depend on the frequency: use --method direct".into()));
             }
             t
         }
@@ -52,7 +56,9 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
         let (n, detail) = with_dims!(dims, dims, pattern_n(&spec))?;
         let r = a.realizations.unwrap_or(DEFAULT_REALISATIONS);
         if r == 0 {
-            return Err("--realizations 0: expected at least 1".into());
+            return Err(LabError::Usage(
+                "--realizations 0: expected at least 1".into(),
+            ));
         }
         (
             Source::Pattern(spec),
@@ -73,12 +79,12 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
             if files.is_empty() {
                 dims = d;
             } else if d != dims {
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "{}: {d} coordinates per point, but {} has {dims}; every --input file must \
                      have the same dimension",
                     path.display(),
                     a.input[0].display()
-                ));
+                )));
             }
             files.push(FileSpec {
                 path: path.display().to_string(),
@@ -124,11 +130,11 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
     let length = pa.length.unwrap_or(DEFAULT_LENGTH);
     let direction = match &pa.direction {
         Some(v) if v.len() != dims => {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--direction has {} component(s) but the points have {dims} dimension(s): give \
                  {dims} comma-separated numbers",
                 v.len()
-            ))
+            )))
         }
         Some(v) => v.clone(),
         None => {
@@ -140,16 +146,16 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
     let axis = a.axis.unwrap_or(0);
     if prim == Primitive::Lines {
         if dims < 2 {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--primitive lines needs points of dimension 2 or 3 (lines along --axis through \
                  the points); got {dims}"
-            ));
+            )));
         }
         if axis >= dims {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--axis {axis}: expected 0 to {} for {dims}D points",
                 dims - 1
-            ));
+            )));
         }
     }
     let grid_dims = if prim == Primitive::Lines {
@@ -200,14 +206,17 @@ pub fn resolve(a: &SpectrumArgs) -> Result<Resolved, String> {
 ///
 /// # Errors
 /// A message naming the offending option, file or realisation.
-pub fn main(a: &SpectrumArgs) -> Result<(), String> {
+pub fn main(a: &SpectrumArgs) -> Result<()> {
     let Resolved { config, files, out } = resolve(a)?;
     let exp = Spectrum::new(config, files)?;
     let opts = a.run.options();
-    run_to_files(
+    Ok(run_to_files(
         &exp,
         &out,
         &opts,
-        Box::new(|e, c, i, o, q| complete(e, c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            complete(e, c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }

@@ -5,6 +5,7 @@
 use plotters::prelude::*;
 
 use super::plot::{builder, decades, log_label, plot_err, titled, FONT};
+use crate::Result;
 
 /// Size of every multi-series plot, in SVG pixels.
 const SIZE: (u32, u32) = (900, 620);
@@ -98,7 +99,7 @@ fn drawable(x: f64, y: f64, log_x: bool) -> bool {
 ///
 /// # Errors
 /// Only on an internal drawing error.
-pub fn multi(p: &Multi<'_>) -> Result<String, String> {
+pub fn multi(p: &Multi<'_>) -> Result<String> {
     let lx = |x: f64| if p.log_x { x.log10() } else { x };
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
     for s in p.series {
@@ -289,7 +290,7 @@ pub fn labelled_scatter(
     x_label: &str,
     y_label: &str,
     points: &[Labelled],
-) -> Result<String, String> {
+) -> Result<String> {
     let fin: Vec<&Labelled> = points
         .iter()
         .filter(|p| p.x.is_finite() && p.y.is_finite())

@@ -229,7 +229,11 @@ pub fn pool(threads: Option<usize>) -> Result<(rayon::ThreadPool, usize)> {
         .num_threads(t)
         .thread_name(|i| format!("linesample-lab-{i}"))
         .build()
-        .map_err(|e| format!("--threads {t}: cannot start the worker threads: {e}"))?;
+        .map_err(|e| {
+            LabError::Usage(format!(
+                "--threads {t}: cannot start the worker threads: {e}"
+            ))
+        })?;
     Ok((pool, t))
 }
 

@@ -14,6 +14,7 @@ use crate::experiments::convergence::{self, DirSpec, RowResult};
 use crate::fit::{fit_loglog, Fit};
 use crate::integrand::IntegrandKind;
 use crate::spec::Primitive;
+use crate::{LabError, Result};
 
 /// Slope tolerance of the verdicts: a theory slope within the 95 % interval
 /// widened by this much is "consistent". A log-log fit over one to three
@@ -375,22 +376,22 @@ fn curve_rates(table: Table, ci: usize, c: &Curve, r: &CurveResult) -> Vec<RateR
 }
 
 /// A cell's convergence chunks, or an error naming it.
-fn conv_cell(cells: &[Cell], i: usize) -> Result<&convergence::Cell, String> {
+fn conv_cell(cells: &[Cell], i: usize) -> Result<&convergence::Cell> {
     match cells.get(i) {
         Some(Cell::Conv(c)) => Ok(c),
-        _ => Err(format!("internal error: cell {i} is not a curve row")),
+        _ => Err(LabError::Internal(format!("cell {i} is not a curve row"))),
     }
 }
 
 /// The rows of a randomised-edge curve (errors, so the exact value is 0).
-fn edge_rows(c: &Curve, cells: &[&convergence::Cell]) -> Result<Vec<RowResult>, String> {
+fn edge_rows(c: &Curve, cells: &[&convergence::Cell]) -> Result<Vec<RowResult>> {
     c.run
         .rows
         .iter()
         .zip(cells)
         .map(|(row, cell)| {
             convergence::row_result(row, cell, 0.0, c.run.realisations)
-                .map_err(|e| format!("{}: {e}", c.id))
+                .map_err(|e| LabError::Message(format!("{}: {e}", c.id)))
         })
         .collect()
 }
@@ -400,14 +401,14 @@ impl Paper {
     ///
     /// # Errors
     /// If a stored cell is invalid.
-    pub fn results(&self, cells: &[Cell]) -> Result<Results, String> {
+    pub fn results(&self, cells: &[Cell]) -> Result<Results> {
         let cfg = self.config();
         if cells.len() != self.jobs.len() {
-            return Err(format!(
-                "internal error: {} cells for {} jobs",
+            return Err(LabError::Internal(format!(
+                "{} cells for {} jobs",
                 cells.len(),
                 self.jobs.len()
-            ));
+            )));
         }
         // Curves.
         let mut curves = Vec::new();
@@ -442,17 +443,17 @@ impl Paper {
         let mut raw = Vec::new();
         for (pi, p) in cfg.predictions.iter().enumerate() {
             let Some(Cell::Pred(pc)) = cells.get(cursor + pi) else {
-                return Err(format!(
-                    "internal error: cell {} is not a prediction",
+                return Err(LabError::Internal(format!(
+                    "cell {} is not a prediction",
                     cursor + pi
-                ));
+                )));
             };
             if pc.rows.len() != p.rows.len() {
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "stored prediction {pi} has {} rows, expected {}",
                     pc.rows.len(),
                     p.rows.len()
-                ));
+                )));
             }
             for (&(c, r), rp) in p.rows.iter().zip(&pc.rows) {
                 let st = RunningStats::from_parts(rp.n, rp.moments)
@@ -494,7 +495,7 @@ impl Paper {
             match cell {
                 Cell::Simd(s) => simd.push(s.clone()),
                 Cell::Nufft(v) => nufft.extend(v.iter().cloned()),
-                _ => return Err("internal error: a timing cell out of place".into()),
+                _ => return Err(LabError::Internal("a timing cell out of place".into())),
             }
         }
         // Rate tables.

@@ -24,6 +24,7 @@ use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEF
 use crate::io::table;
 use crate::sampler::Sampler;
 use crate::spec::Primitive;
+use crate::Result;
 
 /// The samplers of `curves` in order of first appearance (one colour each).
 fn distinct_samplers(cfg: &Config, curves: impl Iterator<Item = usize>) -> Vec<Sampler> {
@@ -247,7 +248,7 @@ pub(super) fn convergence_figure(
     name: &str,
     title: &str,
     curves: &[(usize, String)],
-) -> Result<String, String> {
+) -> Result<String> {
     if curves.is_empty() {
         return Ok(String::new());
     }
@@ -332,7 +333,7 @@ pub(super) fn scatter_figure(
     name: &str,
     title: &str,
     rows: &[&RateRow],
-) -> Result<String, String> {
+) -> Result<String> {
     let samplers = distinct_samplers(cfg, rows.iter().map(|r| r.curve));
     let pts: Vec<Labelled> = rows
         .iter()
@@ -397,11 +398,7 @@ pub(super) fn scatter_figure(
 }
 
 /// Section 1: rate tables per dims × primitive.
-pub(super) fn section_rates(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_rates(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let mut h =
         String::from("<h2 id=\"rates\">1. Rate tables: points and unidirectional lines</h2>\n");
     h.push_str(
@@ -520,11 +517,7 @@ pub(super) fn table_rows(res: &Results, t: Table) -> Vec<&RateRow> {
     res.rates.iter().filter(|r| r.table == t).collect()
 }
 
-pub(super) fn section_segments(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_segments(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Segments);
     if rows.is_empty() {
         return Ok(String::new());
@@ -572,11 +565,7 @@ pub(super) fn section_segments(
     Ok(h)
 }
 
-pub(super) fn section_directions(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_directions(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Directions);
     if rows.is_empty() {
         return Ok(String::new());
@@ -655,11 +644,7 @@ pub(super) fn section_directions(
     Ok(h)
 }
 
-pub(super) fn section_offsets(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_offsets(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Offsets);
     if rows.is_empty() {
         return Ok(String::new());
@@ -730,11 +715,7 @@ pub(super) fn section_offsets(
     Ok(h)
 }
 
-pub(super) fn section_edge(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_edge(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Edge);
     if rows.is_empty() {
         return Ok(String::new());
@@ -811,7 +792,7 @@ pub(super) fn spectrum_png(
     lo: f64,
     hi: f64,
     value: impl Fn(i32, i32) -> f64,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>> {
     let side = 2 * k + 1;
     let scale = 256usize.div_ceil(side).max(1);
     let ki = k as i32;
@@ -820,14 +801,10 @@ pub(super) fn spectrum_png(
         image::log_gray(value(x, y), lo, hi)
     });
     let w = u32::try_from(side * scale).map_err(|_| "image too large")?;
-    image::png(w, w, Color::Gray, &px)
+    Ok(image::png(w, w, Color::Gray, &px)?)
 }
 
-pub(super) fn section_spectra(
-    out: &mut Out<'_>,
-    exp: &Paper,
-    cells: &[Cell],
-) -> Result<String, String> {
+pub(super) fn section_spectra(out: &mut Out<'_>, exp: &Paper, cells: &[Cell]) -> Result<String> {
     let cfg = exp.config();
     let base = cells.len() - cfg.predictions.len() - cfg.timing.simd.len() - 1;
     let mut h = String::from(
@@ -865,7 +842,7 @@ pub(super) fn section_spectra(
         let name = p.sampler.name();
         match p.pattern_dims {
             2 => {
-                let g = Grid::<2>::new(p.k).map_err(|e| e.to_string())?;
+                let g = Grid::<2>::new(p.k)?;
                 let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
                     .map_err(|e| format!("stored periodogram: {e}"))?;
                 let at = |x: i32, y: i32| {
@@ -893,8 +870,7 @@ pub(super) fn section_spectra(
                 );
                 let mut mean = vec![0.0; p.k + 1];
                 let mut count = vec![0u64; p.k + 1];
-                per.radial_average(&mut mean, &mut count)
-                    .map_err(|e| e.to_string())?;
+                per.radial_average(&mut mean, &mut count)?;
                 radial2.push(Series {
                     label: format!("{name} (N = {})", p.n),
                     points: (1..=p.k).map(|r| (r as f64, mean[r], f64::NAN)).collect(),
@@ -910,7 +886,7 @@ pub(super) fn section_spectra(
                 }));
             }
             1 => {
-                let g = Grid::<1>::new(p.k).map_err(|e| e.to_string())?;
+                let g = Grid::<1>::new(p.k)?;
                 let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
                     .map_err(|e| format!("stored periodogram: {e}"))?;
                 let kmax = p.k.min(4 * p.n);
@@ -1021,11 +997,7 @@ pub(super) fn section_spectra(
     Ok(h)
 }
 
-pub(super) fn section_cost(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_cost(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let mut h = String::from(
         "<h2 id=\"cost\">7. What accuracy costs in time</h2>\n\
          <p>RMSE about the exact integral against the wall time of one estimate on one thread \
