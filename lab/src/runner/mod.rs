@@ -283,38 +283,8 @@ pub fn run<E: Experiment>(exp: &E, out: &Path, opts: &RunOptions) -> Result<Outc
         command_line(),
         exp.config().clone(),
     );
-    match dir.read_manifest()? {
-        Some(stored) => state::check_manifest(&stored, &manifest, dir.path())?,
-        None => {
-            if !dir.cell_indices()?.is_empty() {
-                return Err(LabError::Message(format!(
-                    "{} holds cells but no manifest; use --fresh to start over",
-                    dir.path().display()
-                )));
-            }
-            dir.write_manifest(&manifest)?;
-        }
-    }
-    let mut have: BTreeMap<usize, Stored<E::Cell>> = BTreeMap::new();
-    for i in dir.cell_indices()? {
-        if !mine.contains(&i) {
-            return Err(LabError::Message(format!(
-                "{}: cell {i} does not belong to this run; use --fresh to start over",
-                dir.cell_path(i).display()
-            )));
-        }
-        match dir.read_cell(i) {
-            Ok(stored) => {
-                have.insert(i, stored);
-            }
-            // A damaged cell (e.g. after a power loss) is computed again.
-            Err(e) => {
-                if !opts.quiet {
-                    crate::err!("note: {e}: computing it again");
-                }
-            }
-        }
-    }
+    check_or_write_manifest(&dir, &manifest)?;
+    let mut have: BTreeMap<usize, Stored<E::Cell>> = stored_cells(&dir, &mine, opts.quiet)?;
     let resumed = have.len();
     let todo: Vec<usize> = mine
         .iter()
@@ -394,6 +364,55 @@ pub fn run<E: Experiment>(exp: &E, out: &Path, opts: &RunOptions) -> Result<Outc
             info,
         )),
     }
+}
+
+/// Checks the state folder's manifest against `manifest` (this run's), or
+/// writes it into a folder that has none (and no cells).
+fn check_or_write_manifest<C: Serialize>(dir: &StateDir, manifest: &Manifest<C>) -> Result<()> {
+    match dir.read_manifest()? {
+        Some(stored) => state::check_manifest(&stored, manifest, dir.path())?,
+        None => {
+            if !dir.cell_indices()?.is_empty() {
+                return Err(LabError::Message(format!(
+                    "{} holds cells but no manifest; use --fresh to start over",
+                    dir.path().display()
+                )));
+            }
+            dir.write_manifest(manifest)?;
+        }
+    }
+    Ok(())
+}
+
+/// The cells already in the state folder, by index; each must be one of
+/// `mine`. A cell that does not decode (e.g. after a power loss) is left out
+/// to be computed again, with a note unless `quiet`.
+fn stored_cells<C: DeserializeOwned>(
+    dir: &StateDir,
+    mine: &[usize],
+    quiet: bool,
+) -> Result<BTreeMap<usize, Stored<C>>> {
+    let mut have = BTreeMap::new();
+    for i in dir.cell_indices()? {
+        if !mine.contains(&i) {
+            return Err(LabError::Message(format!(
+                "{}: cell {i} does not belong to this run; use --fresh to start over",
+                dir.cell_path(i).display()
+            )));
+        }
+        match dir.read_cell(i) {
+            Ok(stored) => {
+                have.insert(i, stored);
+            }
+            // A damaged cell (e.g. after a power loss) is computed again.
+            Err(e) => {
+                if !quiet {
+                    crate::err!("note: {e}: computing it again");
+                }
+            }
+        }
+    }
+    Ok(have)
 }
 
 /// Reads the manifest of the state folder of `out` without locking it.
