@@ -10,7 +10,6 @@
 //! (its message), so code that still returns `String` errors and code that
 //! returns [`LabError`] call each other with `?`.
 
-use std::fmt;
 use std::path::PathBuf;
 
 use crate::pointfile::PointFileError;
@@ -141,13 +140,6 @@ impl LabError {
         path: &'a std::path::Path,
     ) -> impl Fn(std::io::Error) -> Self + 'a {
         move |source| Self::io(action, path, source)
-    }
-
-    /// The same error with `prefix` before its message, as a
-    /// [`LabError::Message`] (`{prefix}{message}`).
-    #[must_use]
-    pub fn prefixed(self, prefix: impl fmt::Display) -> Self {
-        Self::Message(format!("{prefix}{self}"))
     }
 }
 
