@@ -13,6 +13,7 @@ use crate::integrand::IntegrandKind;
 use crate::runner::{RunOptions, Shard, MAX_THREADS};
 use crate::sampler::{Sampler, DEFAULT_RELATIVE_RADIUS};
 use crate::scene::{CentrePdf, SceneSampler};
+use crate::{LabError, Result};
 
 /// The note on how every command writes files (a literal, so the commands'
 /// `--help` texts can `concat!` it).
@@ -324,9 +325,13 @@ pub struct SceneArgs {
 /// `X,Y` → pixel coordinates.
 ///
 /// # Errors
-/// A message showing the expected form.
-pub fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
-    let bad = || format!("expected X,Y with two non-negative integers, e.g. 410,305 (got '{s}')");
+/// [`LabError::Usage`] showing the expected form.
+pub fn parse_pixel(s: &str) -> Result<(u32, u32)> {
+    let bad = || {
+        LabError::Usage(format!(
+            "expected X,Y with two non-negative integers, e.g. 410,305 (got '{s}')"
+        ))
+    };
     let (x, y) = s.split_once(',').ok_or_else(bad)?;
     Ok((
         x.trim().parse().map_err(|_| bad())?,
@@ -337,12 +342,14 @@ pub fn parse_pixel(s: &str) -> Result<(u32, u32), String> {
 /// `WxH` → a resolution of 1 to 65536 pixels a side.
 ///
 /// # Errors
-/// A message showing the expected form.
-pub fn parse_resolution(s: &str) -> Result<(u32, u32), String> {
+/// [`LabError::Usage`] showing the expected form.
+pub fn parse_resolution(s: &str) -> Result<(u32, u32)> {
     let (w, h) = parse_grid(s)?;
     let ok = |v: usize| (1..=65536).contains(&v);
     if !ok(w) || !ok(h) {
-        return Err(format!("expected 1 to 65536 pixels a side (got '{s}')"));
+        return Err(LabError::Usage(format!(
+            "expected 1 to 65536 pixels a side (got '{s}')"
+        )));
     }
     Ok((w as u32, h as u32))
 }
@@ -778,9 +785,13 @@ pub struct MergeArgs {
 /// `COLSxROWS` → `(COLS, ROWS)`.
 ///
 /// # Errors
-/// A message showing the expected form.
-pub fn parse_grid(s: &str) -> Result<(usize, usize), String> {
-    let bad = || format!("expected COLSxROWS with two positive integers, e.g. 32x32 (got '{s}')");
+/// [`LabError::Usage`] showing the expected form.
+pub fn parse_grid(s: &str) -> Result<(usize, usize)> {
+    let bad = || {
+        LabError::Usage(format!(
+            "expected COLSxROWS with two positive integers, e.g. 32x32 (got '{s}')"
+        ))
+    };
     let (c, r) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let c = c.trim().parse().map_err(|_| bad())?;
     let r = r.trim().parse().map_err(|_| bad())?;
@@ -790,8 +801,8 @@ pub fn parse_grid(s: &str) -> Result<(usize, usize), String> {
 /// Runs the parsed command line.
 ///
 /// # Errors
-/// The command's error message.
-pub fn dispatch(cli: Cli) -> Result<(), String> {
+/// The command's error ([`LabError::Stopped`] when a signal stopped it).
+pub fn dispatch(cli: Cli) -> Result<()> {
     match cli.command {
         Some(Command::Paper(a)) => commands::paper::main(&a),
         Some(Command::Patterns(a)) => commands::patterns::main(&a),
@@ -816,8 +827,8 @@ mod tests {
 
     #[test]
     fn grid_parsing() {
-        assert_eq!(parse_grid("32x16"), Ok((32, 16)));
-        assert_eq!(parse_grid("4X4"), Ok((4, 4)));
+        assert_eq!(parse_grid("32x16").unwrap(), (32, 16));
+        assert_eq!(parse_grid("4X4").unwrap(), (4, 4));
         assert!(parse_grid("32").is_err());
         assert!(parse_grid("ax2").is_err());
     }

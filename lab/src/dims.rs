@@ -17,7 +17,7 @@ macro_rules! with_dims {
         match $d {
             2 => $f::<2, 1>($($arg),*),
             3 => $f::<3, 2>($($arg),*),
-            d => Err(format!("internal error: a {d}-dimensional domain")),
+            d => Err(format!("internal error: a {d}-dimensional domain").into()),
         }
     };
     ($d:expr, $e:expr, $f:ident($($arg:expr),* $(,)?)) => {
@@ -29,7 +29,7 @@ macro_rules! with_dims {
             (3, 2) => $f::<3, 2>($($arg),*),
             (d, e) => Err(format!(
                 "internal error: no {e}-dimensional samples for {d}-dimensional points"
-            )),
+            ).into()),
         }
     };
 }

@@ -1,6 +1,7 @@
 //! The integrand registry: command-line choices turned into kernel integrands
 //! on the unit torus.
 
+use crate::{LabError, Result};
 use clap::ValueEnum;
 use linesample::geom::Direction;
 use linesample::integrand::{Ball, Gaussian, HalfSpace, Integrand};
@@ -105,21 +106,21 @@ impl IntegrandSpec {
     ///
     /// # Errors
     /// The kernel's parameter error, prefixed with the option that caused it.
-    pub fn build<const D: usize>(&self) -> Result<Box<dyn Integrand<D> + Send + Sync>, String> {
+    pub fn build<const D: usize>(&self) -> Result<Box<dyn Integrand<D> + Send + Sync>> {
         let centre = [CENTRE; D];
         let kind = self.kind.name();
         Ok(match &self.params {
-            Params::Ball { radius } => Box::new(
-                Ball::<D>::new(centre, *radius)
-                    .map_err(|e| format!("--radius {radius} (--integrand {kind}): {e}"))?,
-            ),
-            Params::Gaussian { sigma } => Box::new(
-                Gaussian::<D>::new(centre, *sigma)
-                    .map_err(|e| format!("--sigma {sigma} (--integrand gaussian): {e}"))?,
-            ),
+            Params::Ball { radius } => Box::new(Ball::<D>::new(centre, *radius).map_err(|e| {
+                LabError::Usage(format!("--radius {radius} (--integrand {kind}): {e}"))
+            })?),
+            Params::Gaussian { sigma } => {
+                Box::new(Gaussian::<D>::new(centre, *sigma).map_err(|e| {
+                    LabError::Usage(format!("--sigma {sigma} (--integrand gaussian): {e}"))
+                })?)
+            }
             Params::Edge { normal, offset } => {
                 let n = Direction::<D>::new(to_array(normal))
-                    .map_err(|e| format!("--normal {}: {e}", join(normal)))?;
+                    .map_err(|e| LabError::Usage(format!("--normal {}: {e}", join(normal))))?;
                 Box::new(HalfSpace::<D>::new(n, *offset).map_err(|e| {
                     format!(
                         "--normal {} --offset {offset} (--integrand edge): {e}",

@@ -25,6 +25,8 @@
 //! - [`io`]: all-or-nothing file groups, CSV tables, JSON, fallible buffers.
 //! - [`figures`]: plots (`plotters`, SVG) and PNG images.
 //! - [`fit`]: weighted log-log fits.
+//! - [`error`]: [`LabError`], the one error type, and its [`Result`] alias
+//!   (which also converts from and into `String`, for code not yet migrated).
 //! - [`spec`]: the vocabulary experiments share with the command line.
 //! - [`streams`]: the one seed scheme of the scene experiments (a typed
 //!   tuple of purposes per stream).
@@ -35,6 +37,7 @@
 pub mod cli;
 pub mod commands;
 mod dims;
+pub mod error;
 pub mod experiments;
 pub mod figures;
 pub mod fit;
@@ -47,3 +50,5 @@ pub mod scene;
 pub mod spec;
 pub mod streams;
 pub mod term;
+
+pub use error::{LabError, Result};

@@ -10,17 +10,19 @@ use linesample_lab::runner::stop;
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    if let Err(msg) = stop::install() {
-        linesample_lab::err!("error: {msg}");
+    if let Err(e) = stop::install() {
+        linesample_lab::err!("error: {e}");
         return ExitCode::FAILURE;
     }
     match dispatch(cli) {
         Ok(()) => ExitCode::SUCCESS,
-        Err(msg) => {
-            linesample_lab::err!("error: {msg}");
+        Err(e) => {
+            linesample_lab::err!("error: {e}");
             // A run stopped by a signal exits as the shell reports a process
-            // killed by it (128 + the signal number).
-            match stop::requested() {
+            // killed by it (128 + the signal number). The commands still on
+            // `String` errors flatten `LabError::Stopped` into a message, so
+            // the flag the handler set decides too.
+            match e.signal().or_else(stop::requested) {
                 Some(sig) => ExitCode::from(u8::try_from(128 + sig).unwrap_or(1)),
                 None => ExitCode::FAILURE,
             }

@@ -18,6 +18,7 @@ use linesample::{PatternError, Seed};
 use serde::{Deserialize, Serialize};
 
 use crate::io::buffer;
+use crate::{LabError, Result};
 
 /// The sample patterns the lab can use.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
@@ -211,6 +212,7 @@ fn kernel(spec: &PatternSpec, n: usize) -> impl Fn(PatternError) -> String + '_ 
 /// # Errors
 /// A message naming the offending parameter: an unsupported `--dims`, an option
 /// that does not apply to the sampler, or the kernel's own [`PatternError`].
+/// (Still a `String`: the scene experiments map it as one.)
 pub fn build<const D: usize>(spec: &PatternSpec, shift: bool) -> Result<Built<D>, String> {
     let s = spec.sampler;
     if spec.dims != D {
@@ -416,7 +418,7 @@ pub fn generate<const D: usize>(
     pattern: &dyn Pattern<D>,
     seed: Seed,
     runs: usize,
-) -> Result<(Vec<[f32; D]>, Duration), String> {
+) -> Result<(Vec<[f32; D]>, Duration)> {
     let n = pattern.len();
     let mut buf = buffer::filled(n, [0.0f32; D], &format!("{n} points of {D} coordinates"))?;
     let mut times = Vec::with_capacity(runs.max(1));
@@ -425,11 +427,11 @@ pub fn generate<const D: usize>(
         pattern
             .fill(seed, std::hint::black_box(&mut buf))
             .map_err(|e| match e {
-                PatternError::Shortfall { .. } => format!(
+                PatternError::Shortfall { .. } => LabError::Message(format!(
                     "fill failed: {e}; lower --relative-radius (dart throwing jams at \
                      about 0.74 in 1D, 0.77 in 2D, 0.80 in 3D) or drop --bridson"
-                ),
-                _ => format!("fill failed: {e}"),
+                )),
+                _ => LabError::Message(format!("fill failed: {e}")),
             })?;
         times.push(t.elapsed());
     }

@@ -307,7 +307,7 @@ fn generate_gives_the_kernel_points() {
     }
     let e =
         patterns::generate(&PatternSpec::simple(Sampler::Cmj, 3, 16), false, seed, 1).unwrap_err();
-    assert!(e.contains("--dims 3"), "{e}");
+    assert!(e.to_string().contains("--dims 3"), "{e}");
 }
 
 /// `patterns -n 40000000` under a 256 MiB address-space limit: the point

@@ -4,6 +4,7 @@ use crate::cli::*;
 use crate::experiments::gallery::*;
 use crate::experiments::run_to_files;
 use crate::spec::ShiftMode;
+use crate::Result;
 use std::path::PathBuf;
 
 /// The arguments of the default job (`linesample-lab` without a subcommand).
@@ -28,7 +29,7 @@ pub fn default_args() -> GalleryArgs {
 ///
 /// # Errors
 /// A message naming the pattern and what failed.
-pub fn main(a: &GalleryArgs) -> Result<(), String> {
+pub fn main(a: &GalleryArgs) -> Result<()> {
     let config = Config {
         entries: entries(),
         seed: a.run.seed,
@@ -38,10 +39,10 @@ pub fn main(a: &GalleryArgs) -> Result<(), String> {
     };
     let exp = Gallery::new(config);
     let opts = a.run.options();
-    run_to_files(
+    Ok(run_to_files(
         &exp,
         &a.out_dir,
         &opts,
-        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)),
-    )
+        Box::new(|e, c, i, o, q| Ok(complete(e, &c, i, o, q)?)),
+    )?)
 }

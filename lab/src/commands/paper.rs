@@ -3,23 +3,26 @@
 use crate::cli::*;
 use crate::experiments::paper::*;
 use crate::experiments::run_to_files;
+use crate::{LabError, Result};
 
 /// Resolves the command line.
 ///
 /// # Errors
-/// A message naming the offending option.
-pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf), String> {
+/// [`LabError::Usage`] naming the offending option.
+pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf)> {
     if a.run.shift.shift.is_some() {
-        return Err(
+        return Err(LabError::Usage(
             "--shift: paper homogenises every curve itself (random toroidal shift per \
                     realisation; randomised edge position for the straight edge); it takes no \
                     --shift"
                 .into(),
-        );
+        ));
     }
     let mode = if a.full {
         if a.mode.is_some_and(|m| m != Mode::Full) {
-            return Err("--full and --mode: give one of them".into());
+            return Err(LabError::Usage(
+                "--full and --mode: give one of them".into(),
+            ));
         }
         Mode::Full
     } else {
@@ -30,10 +33,10 @@ pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf), String> {
         .clone()
         .unwrap_or_else(|| std::path::PathBuf::from(DEFAULT_OUT));
     if out.file_name().is_none() || out.is_file() {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--out {}: expected a folder such as {DEFAULT_OUT}",
             out.display()
-        ));
+        )));
     }
     Ok((plan::plan(mode, a.run.seed), out))
 }
@@ -42,7 +45,7 @@ pub fn resolve(a: &PaperArgs) -> Result<(Config, std::path::PathBuf), String> {
 ///
 /// # Errors
 /// A message naming the offending option, file or cell.
-pub fn main(a: &PaperArgs) -> Result<(), String> {
+pub fn main(a: &PaperArgs) -> Result<()> {
     let (config, out) = resolve(a)?;
     let opts = a.run.options();
     if opts.shard.is_none() {
@@ -63,10 +66,13 @@ pub fn main(a: &PaperArgs) -> Result<(), String> {
         )?;
     }
     let exp = Paper::new(config)?;
-    run_to_files(
+    Ok(run_to_files(
         &exp,
         &out,
         &opts,
-        Box::new(|e, c, i, o, q| report::complete(e, &c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            report::complete(e, &c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }

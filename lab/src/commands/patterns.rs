@@ -5,6 +5,7 @@ use crate::experiments::patterns::*;
 use crate::io::{self, FileGroup};
 use crate::sampler::PatternSpec;
 use crate::spec::ShiftMode;
+use crate::{LabError, Result};
 use linesample::Seed;
 use std::path::Path;
 
@@ -12,9 +13,11 @@ use std::path::Path;
 ///
 /// # Errors
 /// A message naming the offending parameter or file.
-pub fn main(a: &PatternsArgs) -> Result<(), String> {
+pub fn main(a: &PatternsArgs) -> Result<()> {
     let p = &a.pattern;
-    let sampler = p.sampler.ok_or("--sampler is required")?;
+    let sampler = p
+        .sampler
+        .ok_or_else(|| LabError::Usage("--sampler is required".into()))?;
     let spec = PatternSpec {
         sampler,
         dims: usize::from(a.dims),

@@ -5,20 +5,21 @@ use crate::experiments::run_to_files;
 use crate::experiments::scene::*;
 use crate::scene::{Effect, SceneFile, SceneSampler};
 use crate::spec::ShiftMode;
+use crate::{LabError, Result};
 use std::path::PathBuf;
 
 /// `linesample-lab scene`.
 ///
 /// # Errors
 /// A scene file error (file, line, field), a bad option, or a run error.
-pub fn main(a: &SceneArgs) -> Result<(), String> {
+pub fn main(a: &SceneArgs) -> Result<()> {
     let text = std::fs::read_to_string(&a.file)
-        .map_err(|e| format!("{}: cannot read it: {e}", a.file.display()))?;
+        .map_err(|e| LabError::Message(format!("{}: cannot read it: {e}", a.file.display())))?;
     let source = SceneSource {
         path: a.file.display().to_string(),
         text,
     };
-    let scene = match source.any().map_err(|e| e.to_string())? {
+    let scene = match source.any()? {
         SceneFile::Caustic(scene) => {
             return crate::commands::scene_caustic::main(a, source, &scene)
         }
@@ -52,7 +53,9 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             rows.retain(|r| samplers.contains(&r.sampler));
         }
         if rows.is_empty() {
-            return Err("--samplers: none of the scene's samplers is left".into());
+            return Err(LabError::Usage(
+                "--samplers: none of the scene's samplers is left".into(),
+            ));
         }
         let config = PixelConfig {
             source: source.clone(),
@@ -69,13 +72,13 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             spectrum_realisations: a.spectrum_realisations,
         };
         let exp = PixelStudy::new(config)?;
-        return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
+        return Ok(run_to_files(&exp, &out, &opts, Box::new(complete_pixel))?);
     }
     let sampler = a.sampler.unwrap_or(SceneSampler::MultiJittered);
     let max = 4 * a.n;
     let lad = ladder(sampler, max);
     if !lad.contains(&a.n) {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--n {}: {} needs {} (a ladder value)",
             a.n,
             sampler.name(),
@@ -84,7 +87,7 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
             } else {
                 "a power of two"
             }
-        ));
+        )));
     }
     let estimators = image_estimators(&scene, a.pdf, sampler);
     let config = ImagesConfig {
@@ -102,5 +105,5 @@ pub fn main(a: &SceneArgs) -> Result<(), String> {
         rows_per_cell: 8,
     };
     let exp = Images::new(config)?;
-    run_to_files(&exp, &out, &opts, Box::new(complete_images))
+    Ok(run_to_files(&exp, &out, &opts, Box::new(complete_images))?)
 }

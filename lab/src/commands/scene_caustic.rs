@@ -3,20 +3,23 @@
 use crate::cli::*;
 use crate::experiments::caustic::*;
 use crate::scene::CausticScene;
+use crate::{LabError, Result};
 
 /// `linesample-lab scene FILE` for the volumetric-caustic scene `scene`
 /// read from `source`.
 ///
 /// # Errors
 /// A scene error, a bad option or a run error.
-pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Result<(), String> {
+pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Result<()> {
     if a.pixel.is_some() {
-        return Err("--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into());
+        return Err(LabError::Usage(
+            "--pixel: a volumetric-caustic scene has no pixels (it studies Q)".into(),
+        ));
     }
     let out = a.out.clone().unwrap_or_else(|| default_out(&a.file));
     let opts = a.run.options();
     let samplers = a.samplers.clone().unwrap_or_else(|| scene.samplers.clone());
-    run_all(
+    Ok(run_all(
         source,
         a.resolution,
         None,
@@ -29,5 +32,5 @@ pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Resul
         a.run.shift.shift,
         &out,
         &opts,
-    )
+    )?)
 }

@@ -5,13 +5,14 @@ use crate::experiments::direct::*;
 use crate::experiments::run_to_files;
 use crate::scene::SceneSource;
 use crate::scene::{Scene, SceneSampler};
+use crate::{LabError, Result};
 use std::path::Path;
 
 /// `linesample-lab scene FILE` for a direct-light scene.
 ///
 /// # Errors
 /// A bad option or a run error.
-pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Result<(), String> {
+pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Result<()> {
     let (width, height) = a
         .resolution
         .unwrap_or((scene.camera.width, scene.camera.height));
@@ -35,14 +36,19 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
     };
     if let Some((x, y)) = a.pixel {
         let exp = PixelStudy::new(pixel_config(vec![("P".into(), x, y)]))?;
-        return run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels));
+        return Ok(run_to_files(
+            &exp,
+            &out.join("pixels"),
+            &opts,
+            Box::new(complete_pixels),
+        )?);
     }
     if !a.n.is_power_of_two() || !a.n.trailing_zeros().is_multiple_of(2) {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--n {}: direct-light images need a power of 4 (1, 4, 16, 64, …: a square and a \
              power of two, which every sampler supports)",
             a.n
-        ));
+        )));
     }
     let chosen = run_images(
         source.clone(),
@@ -62,5 +68,10 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
         return Ok(());
     };
     let exp = PixelStudy::new(pixel_config(chosen.study_pixels()))?;
-    run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels))
+    Ok(run_to_files(
+        &exp,
+        &out.join("pixels"),
+        &opts,
+        Box::new(complete_pixels),
+    )?)
 }

@@ -29,6 +29,7 @@ use crate::sampler::{self, DynPattern, PatternSpec, Sampler, DEFAULT_RELATIVE_RA
 use crate::spec::MergeRequest;
 use crate::spec::{Primitive, ShiftMode};
 use crate::with_dims;
+use crate::{LabError, Result};
 
 /// The experiment's name.
 pub const KIND: &str = "convergence";
@@ -252,16 +253,16 @@ pub(crate) fn nearest_power(x: f64, d: usize) -> usize {
     best
 }
 
-pub(crate) fn not_for(option: &str, what: &str, got: &str) -> String {
-    format!("{option} applies only to {what} (got {got})")
+pub(crate) fn not_for(option: &str, what: &str, got: &str) -> LabError {
+    LabError::Usage(format!("{option} applies only to {what} (got {got})"))
 }
 
 /// The fixed direction, or the `K` group directions (documented at `--groups`).
-fn directions<const D: usize>(cfg: &Config) -> Result<Vec<Direction<D>>, String> {
+fn directions<const D: usize>(cfg: &Config) -> Result<Vec<Direction<D>>> {
     match &cfg.dirs {
         DirSpec::None | DirSpec::Random => Ok(Vec::new()),
         DirSpec::Fixed(v) => Ok(vec![Direction::<D>::new(to_array(v))
-            .map_err(|e| format!("--direction {}: {e}", join(v)))?]),
+            .map_err(|e| LabError::Usage(format!("--direction {}: {e}", join(v))))?]),
         DirSpec::Groups(k) => (0..*k)
             .map(|i| {
                 let (i, k) = (i as f64, *k as f64);
@@ -278,7 +279,7 @@ fn directions<const D: usize>(cfg: &Config) -> Result<Vec<Direction<D>>, String>
                     w[1] = r * phi.sin();
                     w[2] = z;
                 }
-                Direction::<D>::new(w).map_err(|e| format!("--groups {k}: {e}"))
+                Direction::<D>::new(w).map_err(|e| LabError::Usage(format!("--groups {k}: {e}")))
             })
             .collect(),
     }
@@ -294,9 +295,9 @@ struct Setup<const D: usize, const K: usize> {
 }
 
 impl<const D: usize, const K: usize> Setup<D, K> {
-    fn new(cfg: &Config, row: &Row) -> Result<Self, String> {
+    fn new(cfg: &Config, row: &Row) -> Result<Self> {
         let spec = cfg.pattern_spec(row);
-        let what = |e: String| format!("--n {}: {e}", row.n);
+        let what = |e: String| LabError::Usage(format!("--n {}: {e}", row.n));
         let (full, offsets, len) = if cfg.primitive == Primitive::Lines {
             let p = sampler::build::<K>(&spec, false).map_err(what)?.pattern;
             let len = p.len();
@@ -307,10 +308,10 @@ impl<const D: usize, const K: usize> Setup<D, K> {
             (Some(p), None, len)
         };
         if len != row.per_group {
-            return Err(format!(
+            return Err(LabError::Usage(format!(
                 "--n {}: --sampler {} built {len} points instead of {}",
                 row.n, cfg.sampler, row.per_group
-            ));
+            )));
         }
         Ok(Setup {
             f: cfg.integrand.build::<D>()?,
@@ -320,7 +321,7 @@ impl<const D: usize, const K: usize> Setup<D, K> {
         })
     }
 
-    fn estimator(&self, cfg: &Config) -> Result<Box<dyn Estimator<D> + '_>, String> {
+    fn estimator(&self, cfg: &Config) -> Result<Box<dyn Estimator<D> + '_>> {
         let directions = match &cfg.dirs {
             DirSpec::Random => Directions::Random,
             DirSpec::Groups(_) => Directions::Groups(&self.dirs),
@@ -329,8 +330,10 @@ impl<const D: usize, const K: usize> Setup<D, K> {
                 None => Directions::Random, // unused by points
             },
         };
-        let err = |e: linesample::ParamError| format!("--primitive {}: {e}", cfg.primitive.name());
-        let missing = || "internal error: no pattern".to_string();
+        let err = |e: linesample::ParamError| {
+            LabError::Usage(format!("--primitive {}: {e}", cfg.primitive.name()))
+        };
+        let missing = || LabError::Internal("no pattern".into());
         Ok(match cfg.primitive {
             Primitive::Points => {
                 let p = self.full.as_deref().ok_or_else(missing)?;
@@ -340,7 +343,7 @@ impl<const D: usize, const K: usize> Setup<D, K> {
                 let p = self.full.as_deref().ok_or_else(missing)?;
                 Box::new(
                     SegmentEstimator::new(p, cfg.length, directions)
-                        .map_err(|e| format!("--length {}: {e}", cfg.length))?,
+                        .map_err(|e| LabError::Usage(format!("--length {}: {e}", cfg.length)))?,
                 )
             }
             Primitive::Lines => {
@@ -374,7 +377,7 @@ pub struct Convergence {
     cells: Vec<CellInfo>,
 }
 
-fn validate<const D: usize, const K: usize>(cfg: &Config) -> Result<(), String> {
+fn validate<const D: usize, const K: usize>(cfg: &Config) -> Result<()> {
     for row in &cfg.rows {
         let setup = Setup::<D, K>::new(cfg, row)?;
         setup.estimator(cfg)?;
@@ -388,7 +391,7 @@ impl Convergence {
     ///
     /// # Errors
     /// The first invalid row's message.
-    pub fn new(config: Config) -> Result<Self, String> {
+    pub fn new(config: Config) -> Result<Self> {
         with_dims!(domain config.dims(), validate(&config))?;
         let cells = config
             .rows
@@ -406,7 +409,7 @@ fn run_row<const D: usize, const K: usize>(
     exp: &Convergence,
     row: &Row,
     ctx: &Ctx<'_>,
-) -> Result<Cell, String> {
+) -> Result<Cell> {
     let cfg = &exp.config;
     let seed = row_seed(cfg.seed, row.n);
     // Pattern, integrand and directions once per row; each chunk borrows them
@@ -431,11 +434,11 @@ fn run_row<const D: usize, const K: usize>(
                 }
                 _ => "",
             };
-            format!(
+            LabError::Message(format!(
                 "N = {}, realisations {first}..{}: {e}{hint}",
                 row.n,
                 first + count
-            )
+            ))
         })
     })
 }
@@ -457,10 +460,10 @@ pub fn row_seed(seed: u64, n: usize) -> Seed {
 pub fn run_chunks(
     ctx: &Ctx<'_>,
     realisations: u64,
-    chunk: impl Fn(u64, u64) -> Result<RunningStats, String> + Sync + Send,
-) -> Result<Cell, String> {
+    chunk: impl Fn(u64, u64) -> Result<RunningStats> + Sync + Send,
+) -> Result<Cell> {
     let n_chunks = usize::try_from(realisations.div_ceil(CHUNK))
-        .map_err(|_| format!("--realisations {realisations}: too many"))?;
+        .map_err(|_| LabError::Usage(format!("--realisations {realisations}: too many")))?;
     let chunks = ctx.map_ordered(n_chunks, |c| {
         let t = Instant::now();
         let first = c as u64 * CHUNK;
@@ -493,7 +496,7 @@ impl Experiment for Convergence {
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
         let row = self.config.rows[index];
-        with_dims!(domain self.config.dims(), run_row(self, &row, ctx))
+        Ok(with_dims!(domain self.config.dims(), run_row(self, &row, ctx))?)
     }
 }
 
@@ -543,7 +546,7 @@ impl Convergence {
     ///
     /// # Errors
     /// If a stored chunk is invalid or the integrand cannot be built.
-    pub fn results(&self, cells: &[Cell]) -> Result<Results, String> {
+    pub fn results(&self, cells: &[Cell]) -> Result<Results> {
         let cfg = &self.config;
         let exact = with_dims!(domain cfg.dims(), exact_integral(cfg))?;
         let rows = cfg
@@ -569,12 +572,7 @@ impl Convergence {
 ///
 /// # Errors
 /// If a stored chunk is invalid.
-pub fn row_result(
-    row: &Row,
-    cell: &Cell,
-    exact: f64,
-    realisations: u64,
-) -> Result<RowResult, String> {
+pub fn row_result(row: &Row, cell: &Cell, exact: f64, realisations: u64) -> Result<RowResult> {
     let mut st = RunningStats::new();
     let mut busy = 0.0;
     for c in &cell.chunks {
@@ -594,7 +592,7 @@ pub fn row_result(
     })
 }
 
-fn exact_integral<const D: usize, const E: usize>(cfg: &Config) -> Result<f64, String> {
+fn exact_integral<const D: usize, const E: usize>(cfg: &Config) -> Result<f64> {
     Ok(cfg.integrand.build::<D>()?.integral())
 }
 
@@ -684,7 +682,7 @@ fn csv_rows(cfg: &Config, res: &Results) -> Vec<CsvRow> {
 ///
 /// # Errors
 /// Only on an internal drawing error.
-pub fn svg(cfg: &Config, res: &Results) -> Result<String, String> {
+pub fn svg(cfg: &Config, res: &Results) -> Result<String> {
     let title = format!(
         "{} {}D, {}, {}, R = {}",
         cfg.integrand.kind.name(),
@@ -783,7 +781,7 @@ pub fn complete(
     info: &RunInfo,
     out: &Path,
     quiet: bool,
-) -> Result<Results, String> {
+) -> Result<Results> {
     let cfg = &exp.config;
     let res = exp.results(cells)?;
     let (csv_path, svg_path, json_path) = (
@@ -815,13 +813,16 @@ pub fn complete(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Convergence::new(config_from(config, KIND)?)?;
-    merge_to_files(
+    Ok(merge_to_files(
         &exp,
         a,
-        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            complete(e, &c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }
 
 #[cfg(test)]

@@ -17,6 +17,7 @@ use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
 use crate::sampler::{PatternSpec, Sampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
+use crate::{LabError, Result};
 
 /// The experiment's name.
 pub const KIND: &str = "gallery";
@@ -135,7 +136,7 @@ impl Experiment for Gallery {
         let spec = Config::spec(&e);
         let ctx_err = |what: &'static str| {
             let (s, d) = (e.sampler, e.dims);
-            move |err: String| format!("gallery, {s} {d}D{what}: {err}")
+            move |err: LabError| format!("gallery, {s} {d}D{what}: {err}")
         };
         let pts = patterns::generate(
             &spec,
@@ -155,6 +156,7 @@ impl Experiment for Gallery {
             let exp = spectrum::Spectrum::new(scfg, None).map_err(ctx_err(" spectrum"))?;
             let cells = ctx
                 .map_ordered(exp.cells().len(), |c| exp.run_cell(c, ctx))
+                .map_err(LabError::from)
                 .map_err(ctx_err(" spectrum"))?;
             Some(exp.summary(cells).map_err(ctx_err(" spectrum"))?)
         } else {
@@ -202,7 +204,7 @@ pub fn complete(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> Result<()> {
     let cfg = &exp.config;
     let shifted = cfg.shift == ShiftMode::Random;
     let mut group = FileGroup::new();
@@ -312,9 +314,13 @@ fn reproduce(cfg: &Config) -> String {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Gallery::new(config_from(config, KIND)?);
-    merge_to_files(&exp, a, Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)))
+    Ok(merge_to_files(
+        &exp,
+        a,
+        Box::new(|e, c, i, o, q| Ok(complete(e, &c, i, o, q)?)),
+    )?)
 }
 
 #[cfg(test)]

@@ -239,7 +239,7 @@ pub fn row_blocks(width: u32, height: u32, rows: u32) -> Vec<CellInfo> {
         .collect()
 }
 
-fn nan_images(k: usize, count: usize, what: &str) -> Result<Vec<Vec<f32>>, String> {
+fn nan_images(k: usize, count: usize, what: &str) -> crate::Result<Vec<Vec<f32>>> {
     (0..k)
         .map(|_| buffer::filled(count, f32::NAN, what))
         .collect()

@@ -21,6 +21,7 @@ use serde::Serialize;
 
 use crate::runner::{self, Experiment, Outcome, RunInfo, RunOptions};
 use crate::spec::MergeRequest;
+use crate::{LabError, Result};
 
 /// How an experiment turns its finished cells into files: `(experiment,
 /// cells in order, run info, --out, quiet)`.
@@ -154,8 +155,11 @@ pub fn file_name(path: &Path) -> String {
 ///
 /// # Errors
 /// As [`runner::merge`], or if the first shard has no readable manifest.
-pub fn merge(a: &MergeRequest) -> Result<(), String> {
-    let first = a.shards.first().ok_or("merge: give the shard folders")?;
+pub fn merge(a: &MergeRequest) -> Result<()> {
+    let first = a
+        .shards
+        .first()
+        .ok_or_else(|| LabError::Usage("merge: give the shard folders".into()))?;
     let manifest = runner::read_manifest_json(first)?;
     let kind = manifest
         .get("experiment")
@@ -168,15 +172,16 @@ pub fn merge(a: &MergeRequest) -> Result<(), String> {
         spectrum::KIND => spectrum::merge(a, config),
         gallery::KIND => gallery::merge(a, config),
         paper::KIND => paper::merge(a, config),
-        scene::KIND => scene::merge(a, config),
-        scene::PIXEL_KIND => scene::merge_pixel(a, config),
-        direct::KIND => direct::merge(a, config),
-        direct::PIXEL_KIND => direct::merge_pixel(a, config),
-        caustic::KIND => caustic::merge(a, config),
-        other => Err(format!(
+        // Still on `String` errors (see `crate::error`).
+        scene::KIND => Ok(scene::merge(a, config)?),
+        scene::PIXEL_KIND => Ok(scene::merge_pixel(a, config)?),
+        direct::KIND => Ok(direct::merge(a, config)?),
+        direct::PIXEL_KIND => Ok(direct::merge_pixel(a, config)?),
+        caustic::KIND => Ok(caustic::merge(a, config)?),
+        other => Err(LabError::Message(format!(
             "{}: experiment '{other}' cannot be merged by this lab version",
             first.display()
-        )),
+        ))),
     }
 }
 

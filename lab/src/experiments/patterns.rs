@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 use crate::figures;
 use crate::io::{self, FileGroup};
 use crate::sampler::{self, PatternSpec, Sampler};
+use crate::{LabError, Result};
 
 /// The `patterns` output formats (its `--help`).
 pub const FORMATS: &str = concat!(
@@ -61,7 +62,7 @@ fn generate_dims<const D: usize>(
     shift: bool,
     seed: Seed,
     runs: usize,
-) -> Result<Points, String> {
+) -> Result<Points> {
     let built = sampler::build::<D>(spec, shift)?;
     let (pts, median) = sampler::generate(built.pattern.as_ref(), seed, runs)?;
     Ok(Points {
@@ -78,17 +79,12 @@ fn generate_dims<const D: usize>(
 ///
 /// # Errors
 /// A message naming the offending parameter, or a failed allocation.
-pub fn generate(
-    spec: &PatternSpec,
-    shift: bool,
-    seed: Seed,
-    runs: usize,
-) -> Result<Points, String> {
+pub fn generate(spec: &PatternSpec, shift: bool, seed: Seed, runs: usize) -> Result<Points> {
     match spec.dims {
         1 => generate_dims::<1>(spec, shift, seed, runs),
         2 => generate_dims::<2>(spec, shift, seed, runs),
         3 => generate_dims::<3>(spec, shift, seed, runs),
-        d => Err(format!("--dims {d}: expected 1, 2 or 3")),
+        d => Err(LabError::Usage(format!("--dims {d}: expected 1, 2 or 3"))),
     }
 }
 
@@ -140,7 +136,7 @@ pub fn stage(
     prefix: &Path,
     points: &Points,
     title: &str,
-) -> Result<(PathBuf, PathBuf), String> {
+) -> Result<(PathBuf, PathBuf)> {
     let (txt, svg) = (io::suffixed(prefix, ".txt"), io::suffixed(prefix, ".svg"));
     group.add(&txt, |w| write_txt(points, w))?;
     let plot = figures::scatter(&points.coords, points.dims, title)?;

@@ -36,6 +36,7 @@ use crate::sampler::{self, PatternSpec};
 use crate::spec::MergeRequest;
 use crate::spec::{Primitive, ShiftMode};
 use crate::with_dims;
+use crate::{LabError, Result};
 
 /// The experiment's name.
 pub const KIND: &str = "spectrum";
@@ -291,11 +292,11 @@ impl Config {
     }
 }
 
-pub(crate) fn not_for(option: &str, what: &str, got: Primitive) -> String {
-    format!(
+pub(crate) fn not_for(option: &str, what: &str, got: Primitive) -> LabError {
+    LabError::Usage(format!(
         "{option} applies only to {what} (got --primitive {})",
         got.name()
-    )
+    ))
 }
 
 /// The largest `k` with `2k + 1 ≤ 10·√N`, capped per grid dimension.
@@ -315,12 +316,9 @@ pub fn default_k(n: usize, grid_dims: usize) -> usize {
 
 /// One point file read: its dimension, flat coordinates wrapped into `[0, 1)`,
 /// and its CRC-32; notes about headers and wrapping go to `notes`.
-pub(crate) fn read_points(
-    path: &Path,
-    notes: &mut Vec<String>,
-) -> Result<(usize, Vec<f64>, u32), String> {
+pub(crate) fn read_points(path: &Path, notes: &mut Vec<String>) -> Result<(usize, Vec<f64>, u32)> {
     let name = path.display();
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read --input {name}: {e}"))?;
+    let bytes = std::fs::read(path).map_err(LabError::io_at("read --input", path))?;
     let crc = crc32fast::hash(&bytes);
     let text = String::from_utf8(bytes).map_err(|e| {
         format!(
@@ -328,9 +326,9 @@ pub(crate) fn read_points(
             e.utf8_error().valid_up_to()
         )
     })?;
-    let set = pointfile::parse_points(&text).map_err(|e| match e.line() {
-        Some(_) => format!("{name}, {e}"),
-        None => format!("{name}: {e}"),
+    let set = pointfile::parse_points(&text).map_err(|source| LabError::PointFile {
+        file: name.to_string(),
+        source,
     })?;
     if let Some(h) = set.header {
         notes.push(format!(
@@ -355,7 +353,7 @@ pub(crate) fn read_points(
 
 pub(crate) fn pattern_n<const D: usize, const E: usize>(
     spec: &PatternSpec,
-) -> Result<(usize, Option<String>), String> {
+) -> Result<(usize, Option<String>)> {
     let b = sampler::build::<D>(spec, false)?;
     Ok((b.pattern.len(), b.detail))
 }
@@ -392,21 +390,21 @@ pub struct Spectrum {
     files: Option<Vec<Vec<f64>>>,
 }
 
-fn check_grid<const D: usize, const E: usize>(cfg: &Config) -> Result<(), String> {
-    let grid = Grid::<E>::new(cfg.k).map_err(|e| format!("--k {}: {e}", cfg.k))?;
+fn check_grid<const D: usize, const E: usize>(cfg: &Config) -> Result<()> {
+    let grid = Grid::<E>::new(cfg.k).map_err(|e| LabError::Usage(format!("--k {}: {e}", cfg.k)))?;
     if grid.len() > MAX_GRID_CELLS {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "--k {}: the {E}D grid has {} stored cells (above the lab's limit of {MAX_GRID_CELLS}, \
              about 32 bytes each per block in flight); lower --k",
             cfg.k,
             grid.len()
-        ));
+        )));
     }
     if cfg.primitive == Primitive::Segments {
         let d = Direction::<D>::new(crate::integrand::to_array(&cfg.direction))
-            .map_err(|e| format!("--direction {}: {e}", join(&cfg.direction)))?;
+            .map_err(|e| LabError::Usage(format!("--direction {}: {e}", join(&cfg.direction))))?;
         Segment::<D>::new([0.5; D], d, cfg.length)
-            .map_err(|e| format!("--length {}: {e}", cfg.length))?;
+            .map_err(|e| LabError::Usage(format!("--length {}: {e}", cfg.length)))?;
     }
     Ok(())
 }
@@ -417,7 +415,7 @@ impl Spectrum {
     ///
     /// # Errors
     /// An invalid grid, direction or length.
-    pub fn new(config: Config, files: Option<Vec<Vec<f64>>>) -> Result<Self, String> {
+    pub fn new(config: Config, files: Option<Vec<Vec<f64>>>) -> Result<Self> {
         with_dims!(config.dims, config.grid_dims(), check_grid(&config))?;
         let b = config.block();
         let cells = (0..config.realisations.div_ceil(b))
@@ -448,7 +446,7 @@ impl Spectrum {
         &self,
         pattern: Option<&dyn Pattern<D>>,
         r: u64,
-    ) -> Result<Vec<[f64; D]>, String> {
+    ) -> Result<Vec<[f64; D]>> {
         let cfg = &self.config;
         let mut pts: Vec<[f64; D]> = match (&cfg.source, pattern) {
             (Source::Pattern(_), Some(p)) => {
@@ -461,7 +459,7 @@ impl Spectrum {
                 let flat = usize::try_from(r)
                     .ok()
                     .and_then(|i| self.files.as_ref()?.get(i))
-                    .ok_or("internal error: the input files are not loaded")?;
+                    .ok_or_else(|| LabError::Internal("the input files are not loaded".into()))?;
                 let mut v = buffer::empty(flat.len() / D, "points")?;
                 v.extend(flat.chunks_exact(D).map(|c| {
                     let mut p = [0.0; D];
@@ -470,7 +468,7 @@ impl Spectrum {
                 }));
                 v
             }
-            (Source::Pattern(_), None) => return Err("internal error: no pattern".into()),
+            (Source::Pattern(_), None) => return Err(LabError::Internal("no pattern".into())),
         };
         if cfg.shift == ShiftMode::Random {
             let s = Shifted::<()>::shift::<D>(Seed::new(cfg.seed).realization(r));
@@ -499,14 +497,14 @@ fn sample_coords<const D: usize, const E: usize>(
     cfg: &Config,
     pts: &[[f64; D]],
     buf: &mut Vec<[f64; E]>,
-) -> Result<(), String> {
+) -> Result<()> {
     buf.clear();
     buf.try_reserve(pts.len())
         .map_err(|_| format!("{} samples: cannot allocate", pts.len()))?;
     buf.resize(pts.len(), [0.0; E]);
     match cfg.primitive {
         Primitive::Lines => line_offsets::<D, E, f64>(pts, cfg.axis, buf)
-            .map_err(|e| format!("--primitive lines: {e}")),
+            .map_err(|e| LabError::Usage(format!("--primitive lines: {e}"))),
         _ => {
             for (o, p) in buf.iter_mut().zip(pts) {
                 o.copy_from_slice(&p[..E]);
@@ -530,7 +528,7 @@ enum Engine<const E: usize> {
 }
 
 impl<const E: usize> Engine<E> {
-    fn new(cfg: &Config, grid: Grid<E>) -> Result<Self, String> {
+    fn new(cfg: &Config, grid: Grid<E>) -> Result<Self> {
         Ok(match cfg.method {
             Method::Direct => {
                 let per = if cfg.primitive == Primitive::Segments {
@@ -546,21 +544,27 @@ impl<const E: usize> Engine<E> {
                 )?;
                 let dir = if cfg.primitive == Primitive::Segments {
                     Some(
-                        Direction::<E>::new(crate::integrand::to_array(&cfg.direction))
-                            .map_err(|e| format!("--direction {}: {e}", join(&cfg.direction)))?,
+                        Direction::<E>::new(crate::integrand::to_array(&cfg.direction)).map_err(
+                            |e| {
+                                LabError::Usage(format!(
+                                    "--direction {}: {e}",
+                                    join(&cfg.direction)
+                                ))
+                            },
+                        )?,
                     )
                 } else {
                     None
                 };
                 Engine::Direct {
-                    dft: Dft::new(grid, buf).map_err(|e| e.to_string())?,
+                    dft: Dft::new(grid, buf)?,
                     scratch: buffer::filled(chunk * per, 0.0, "the phase tables")?,
                     dir,
                 }
             }
             Method::Nufft => {
                 let plan = nufft::Plan::<E>::new_for_points(cfg.k, cfg.tol, cfg.n)
-                    .map_err(|e| format!("--method nufft: {e}"))?;
+                    .map_err(|e| LabError::Usage(format!("--method nufft: {e}")))?;
                 let buf = buffer::filled(
                     Amplitudes::<E, Vec<f64>>::buffer_len(grid),
                     0.0,
@@ -568,18 +572,14 @@ impl<const E: usize> Engine<E> {
                 )?;
                 Engine::Nufft {
                     plan: Box::new(plan),
-                    amps: Amplitudes::new(grid, buf).map_err(|e| e.to_string())?,
+                    amps: Amplitudes::new(grid, buf)?,
                 }
             }
         })
     }
 
     /// The amplitudes of one realisation's samples.
-    fn transform(
-        &mut self,
-        cfg: &Config,
-        samples: &[[f64; E]],
-    ) -> Result<&dyn AmplitudeView<E>, String> {
+    fn transform(&mut self, cfg: &Config, samples: &[[f64; E]]) -> Result<&dyn AmplitudeView<E>> {
         let what =
             |e: linesample::SpectrumError| format!("--primitive {}: {e}", cfg.primitive.name());
         match self {
@@ -595,7 +595,7 @@ impl<const E: usize> Engine<E> {
             }
             Engine::Nufft { plan, amps } => {
                 plan.transform_into(samples, amps)
-                    .map_err(|e| format!("--method nufft: {e}"))?;
+                    .map_err(|e| LabError::Usage(format!("--method nufft: {e}")))?;
                 Ok(amps)
             }
         }
@@ -606,13 +606,13 @@ fn run_block<const D: usize, const E: usize>(
     exp: &Spectrum,
     index: usize,
     ctx: &Ctx<'_>,
-) -> Result<Cell, String> {
+) -> Result<Cell> {
     let cfg = &exp.config;
     let t = Instant::now();
     let b = cfg.block();
     let first = index as u64 * b;
     let last = (first + b).min(cfg.realisations);
-    let grid = Grid::<E>::new(cfg.k).map_err(|e| format!("--k {}: {e}", cfg.k))?;
+    let grid = Grid::<E>::new(cfg.k).map_err(|e| LabError::Usage(format!("--k {}: {e}", cfg.k)))?;
     let built = match &cfg.source {
         Source::Pattern(spec) => Some(sampler::build::<D>(spec, false)?),
         Source::Files(_) => None,
@@ -623,7 +623,7 @@ fn run_block<const D: usize, const E: usize>(
         0.0,
         "the periodogram",
     )?;
-    let mut total = Periodogram::new(grid, buf).map_err(|e| e.to_string())?;
+    let mut total = Periodogram::new(grid, buf)?;
     let mut count = vec![0u64; cfg.k + 1];
     let mut rings = Vec::with_capacity((last - first) as usize);
     let mut samples: Vec<[f64; E]> = Vec::new();
@@ -638,13 +638,12 @@ fn run_block<const D: usize, const E: usize>(
             .and_then(|pts| {
                 sample_coords::<D, E>(cfg, &pts, &mut samples)?;
                 if samples.is_empty() {
-                    return Err("no points".into());
+                    return Err(LabError::Message("no points".into()));
                 }
                 let view = engine.transform(cfg, &samples)?;
-                total.add(view).map_err(|e| e.to_string())?;
+                total.add(view)?;
                 let mut ring = vec![0.0; cfg.k + 1];
-                view.radial_power(&mut ring, &mut count)
-                    .map_err(|e| e.to_string())?;
+                view.radial_power(&mut ring, &mut count)?;
                 Ok(ring)
             })
             .map_err(|e| format!("{}: {e}", exp.what(r)))?;
@@ -676,11 +675,11 @@ impl Experiment for Spectrum {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
-        with_dims!(
+        Ok(with_dims!(
             self.config.dims,
             self.config.grid_dims(),
             run_block(self, index, ctx)
-        )
+        )?)
     }
 }
 
@@ -734,11 +733,8 @@ fn bands(k: usize, n: usize) -> (usize, usize) {
     (hi_lo, low_hi.min(k))
 }
 
-fn summarise<const D: usize, const E: usize>(
-    cfg: &Config,
-    cells: Vec<Cell>,
-) -> Result<Summary, String> {
-    let grid = Grid::<E>::new(cfg.k).map_err(|e| format!("--k {}: {e}", cfg.k))?;
+fn summarise<const D: usize, const E: usize>(cfg: &Config, cells: Vec<Cell>) -> Result<Summary> {
+    let grid = Grid::<E>::new(cfg.k).map_err(|e| LabError::Usage(format!("--k {}: {e}", cfg.k)))?;
     let bad = |e: linesample::SpectrumError| format!("a stored block of realisations: {e}");
     let mut total: Option<Periodogram<E, Vec<f64>>> = None;
     let mut rings = vec![RunningStats::new(); cfg.k + 1];
@@ -746,7 +742,9 @@ fn summarise<const D: usize, const E: usize>(
     for c in cells {
         for ring in &c.rings {
             if ring.len() != cfg.k + 1 {
-                return Err("a stored block of realisations has rings of the wrong length".into());
+                return Err(LabError::Message(
+                    "a stored block of realisations has rings of the wrong length".into(),
+                ));
             }
             for (s, &v) in rings.iter_mut().zip(ring) {
                 s.push(v);
@@ -759,15 +757,13 @@ fn summarise<const D: usize, const E: usize>(
             Some(t) => t.merge(&p).map_err(bad)?,
         }
     }
-    let total = total.ok_or("internal error: no realisations")?;
+    let total = total.ok_or_else(|| LabError::Internal("no realisations".into()))?;
     if total.realisations() != cfg.realisations {
-        return Err("internal error: missing realisations".into());
+        return Err(LabError::Internal("missing realisations".into()));
     }
     let mut mean = vec![0.0; cfg.k + 1];
     let mut count = vec![0u64; cfg.k + 1];
-    total
-        .radial_average(&mut mean, &mut count)
-        .map_err(|e| e.to_string())?;
+    total.radial_average(&mut mean, &mut count)?;
     let se = rings.iter().map(RunningStats::mean_std_error).collect();
     let image = if E >= 2 {
         let k = cfg.k as i32;
@@ -805,7 +801,7 @@ impl Spectrum {
     ///
     /// # Errors
     /// If a stored cell is invalid.
-    pub fn summary(&self, cells: Vec<Cell>) -> Result<Summary, String> {
+    pub fn summary(&self, cells: Vec<Cell>) -> Result<Summary> {
         with_dims!(
             self.config.dims,
             self.config.grid_dims(),
@@ -853,7 +849,7 @@ pub fn stage(
     s: &Summary,
     title: &str,
     subtitle: &str,
-) -> Result<Vec<PathBuf>, String> {
+) -> Result<Vec<PathBuf>> {
     let mut paths = Vec::new();
     let rings_ok = [s.mean.len(), s.se.len(), s.count.len()]
         .iter()
@@ -863,7 +859,9 @@ pub fn stage(
         .as_ref()
         .is_none_or(|i| i.values.len() == i.side * i.side);
     if !rings_ok || !image_ok {
-        return Err("a stored spectrum summary has arrays of the wrong length; use --fresh".into());
+        return Err(LabError::Message(
+            "a stored spectrum summary has arrays of the wrong length; use --fresh".into(),
+        ));
     }
     if let Some((w, px)) = image_pixels(s) {
         let png_path = io::suffixed(prefix, ".png");
@@ -984,7 +982,7 @@ pub fn complete(
     info: &RunInfo,
     out: &Path,
     quiet: bool,
-) -> Result<Summary, String> {
+) -> Result<Summary> {
     let cfg = &exp.config;
     let s = exp.summary(cells)?;
     let (title, subtitle) = titles(cfg);
@@ -1078,13 +1076,16 @@ fn reproduce(cfg: &Config) -> String {
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Spectrum::new(config_from(config, KIND)?, None)?;
-    merge_to_files(
+    Ok(merge_to_files(
         &exp,
         a,
-        Box::new(|e, c, i, o, q| complete(e, c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            complete(e, c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@
 use plotters::prelude::*;
 
 use super::plot::{builder, decades, log_label, plot_err, titled, FONT};
+use crate::Result;
 
 /// Size of every multi-series plot, in SVG pixels.
 const SIZE: (u32, u32) = (900, 620);
@@ -98,7 +99,55 @@ fn drawable(x: f64, y: f64, log_x: bool) -> bool {
 ///
 /// # Errors
 /// Only on an internal drawing error.
-pub fn multi(p: &Multi<'_>) -> Result<String, String> {
+pub fn multi(p: &Multi<'_>) -> Result<String> {
+    let (x0, x1, ylo, yhi) = ranges(p);
+    let clip = |v: f64| v.clamp(ylo, yhi);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, SIZE).into_drawing_area();
+        let body = titled(&root, p.title, p.subtitle)?;
+        if p.log_x {
+            let mut chart = builder(&body)
+                .build_cartesian_2d(
+                    (10f64.powf(x0)..10f64.powf(x1)).log_scale(),
+                    (ylo..yhi).log_scale(),
+                )
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc(p.x_label)
+                .y_desc(p.y_label)
+                .x_label_formatter(&log_label)
+                .y_label_formatter(&log_label)
+                .label_style((FONT, 12))
+                .axis_desc_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            draw_all(&mut chart, p, &clip)?;
+        } else {
+            let mut chart = builder(&body)
+                .build_cartesian_2d(x0..x1, (ylo..yhi).log_scale())
+                .map_err(plot_err)?;
+            chart
+                .configure_mesh()
+                .x_desc(p.x_label)
+                .y_desc(p.y_label)
+                .y_label_formatter(&log_label)
+                .label_style((FONT, 12))
+                .axis_desc_style((FONT, 13))
+                .draw()
+                .map_err(plot_err)?;
+            draw_all(&mut chart, p, &clip)?;
+        }
+        root.present().map_err(plot_err)?;
+    }
+    Ok(out)
+}
+
+/// The axes' ranges of `p`: `(x0, x1)` (in decades for a log axis) and the y
+/// range `(ylo, yhi)`, whole decades around every drawable point and its
+/// lower error bar.
+fn ranges(p: &Multi<'_>) -> (f64, f64, f64, f64) {
     let lx = |x: f64| if p.log_x { x.log10() } else { x };
     let (mut xs, mut ys) = (Vec::new(), Vec::new());
     for s in p.series {
@@ -130,137 +179,116 @@ pub fn multi(p: &Multi<'_>) -> Result<String, String> {
         }
     };
     let (y0, y1) = decades(ys.iter().flat_map(|&y| [y - 0.05, y + 0.05]));
-    let (ylo, yhi) = (10f64.powf(y0), 10f64.powf(y1));
-    let clip = |v: f64| v.clamp(ylo, yhi);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, SIZE).into_drawing_area();
-        let body = titled(&root, p.title, p.subtitle)?;
-        macro_rules! draw {
-            ($chart:expr) => {{
-                let mut chart = $chart;
-                for (i, s) in p.series.iter().enumerate() {
-                    let c = color(s.color.unwrap_or(i));
-                    let pts: Vec<(f64, f64, f64)> = s
-                        .points
-                        .iter()
-                        .copied()
-                        .filter(|&(x, y, _)| drawable(x, y, p.log_x))
-                        .collect();
-                    if let Some(t) = s.theory {
-                        chart
-                            .draw_series(DashedLineSeries::new(
-                                t.polyline().into_iter().map(|(x, y)| (x, clip(y))),
-                                6,
-                                4,
-                                c.stroke_width(1),
-                            ))
-                            .map_err(plot_err)?;
-                    }
-                    if let Some(f) = s.fit {
-                        chart
-                            .draw_series(LineSeries::new(
-                                f.polyline().into_iter().map(|(x, y)| (x, clip(y))),
-                                c.stroke_width(2),
-                            ))
-                            .map_err(plot_err)?;
-                    }
-                    if s.joined && s.dashed {
-                        chart
-                            .draw_series(DashedLineSeries::new(
-                                pts.iter().map(|&(x, y, _)| (x, clip(y))),
-                                8,
-                                4,
-                                c.stroke_width(2),
-                            ))
-                            .map_err(plot_err)?;
-                    } else if s.joined {
-                        chart
-                            .draw_series(LineSeries::new(
-                                pts.iter().map(|&(x, y, _)| (x, clip(y))),
-                                c.stroke_width(2),
-                            ))
-                            .map_err(plot_err)?;
-                    }
-                    chart
-                        .draw_series(pts.iter().filter(|q| q.2.is_finite() && q.2 > 0.0).map(
-                            |&(x, y, e)| {
-                                ErrorBar::new_vertical(
-                                    x,
-                                    clip(y - e),
-                                    y,
-                                    clip(y + e),
-                                    c.filled().stroke_width(1),
-                                    6,
-                                )
-                            },
-                        ))
-                        .map_err(plot_err)?;
-                    chart
-                        .draw_series(
-                            pts.iter()
-                                .map(|&(x, y, _)| Circle::new((x, y), 3, c.filled())),
-                        )
-                        .map_err(plot_err)?
-                        .label(s.label.clone())
-                        .legend(move |(x, y)| {
-                            PathElement::new([(x, y), (x + 16, y)], c.stroke_width(2))
-                        });
-                    chart
-                        .draw_series(
-                            s.predicted
-                                .iter()
-                                .filter(|&&(x, y)| drawable(x, y, p.log_x))
-                                .map(|&(x, y)| Circle::new((x, y), 6, c.stroke_width(1))),
-                        )
-                        .map_err(plot_err)?;
-                }
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperRight)
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .label_font((FONT, 12))
-                    .draw()
-                    .map_err(plot_err)?;
-            }};
-        }
-        if p.log_x {
-            let mut chart = builder(&body)
-                .build_cartesian_2d(
-                    (10f64.powf(x0)..10f64.powf(x1)).log_scale(),
-                    (ylo..yhi).log_scale(),
-                )
-                .map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc(p.x_label)
-                .y_desc(p.y_label)
-                .x_label_formatter(&log_label)
-                .y_label_formatter(&log_label)
-                .label_style((FONT, 12))
-                .axis_desc_style((FONT, 13))
-                .draw()
-                .map_err(plot_err)?;
-            draw!(chart);
-        } else {
-            let mut chart = builder(&body)
-                .build_cartesian_2d(x0..x1, (ylo..yhi).log_scale())
-                .map_err(plot_err)?;
-            chart
-                .configure_mesh()
-                .x_desc(p.x_label)
-                .y_desc(p.y_label)
-                .y_label_formatter(&log_label)
-                .label_style((FONT, 12))
-                .axis_desc_style((FONT, 13))
-                .draw()
-                .map_err(plot_err)?;
-            draw!(chart);
-        }
-        root.present().map_err(plot_err)?;
+    (x0, x1, 10f64.powf(y0), 10f64.powf(y1))
+}
+
+/// A [`multi`] chart: a log or linear x axis, a log y axis.
+type MultiChart<'a, 'b, X> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<X, LogCoord<f64>>>;
+
+/// Every series of `p` on `chart` (y values clipped by `clip`), then the
+/// legend.
+fn draw_all<'a, 'b: 'a, X: Ranged<ValueType = f64>>(
+    chart: &mut MultiChart<'a, 'b, X>,
+    p: &Multi<'_>,
+    clip: &impl Fn(f64) -> f64,
+) -> Result<()> {
+    for (i, s) in p.series.iter().enumerate() {
+        draw_one(chart, s, color(s.color.unwrap_or(i)), p.log_x, clip)?;
     }
-    Ok(out)
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font((FONT, 12))
+        .draw()
+        .map_err(plot_err)?;
+    Ok(())
+}
+
+/// One series in colour `c`: its theory line (dashed), fit, joining line,
+/// error bars, points (named in the legend) and predicted markers.
+fn draw_one<'a, 'b: 'a, X: Ranged<ValueType = f64>>(
+    chart: &mut MultiChart<'a, 'b, X>,
+    s: &Series,
+    c: RGBColor,
+    log_x: bool,
+    clip: &impl Fn(f64) -> f64,
+) -> Result<()> {
+    let pts: Vec<(f64, f64, f64)> = s
+        .points
+        .iter()
+        .copied()
+        .filter(|&(x, y, _)| drawable(x, y, log_x))
+        .collect();
+    if let Some(t) = s.theory {
+        chart
+            .draw_series(DashedLineSeries::new(
+                t.polyline().into_iter().map(|(x, y)| (x, clip(y))),
+                6,
+                4,
+                c.stroke_width(1),
+            ))
+            .map_err(plot_err)?;
+    }
+    if let Some(f) = s.fit {
+        chart
+            .draw_series(LineSeries::new(
+                f.polyline().into_iter().map(|(x, y)| (x, clip(y))),
+                c.stroke_width(2),
+            ))
+            .map_err(plot_err)?;
+    }
+    if s.joined && s.dashed {
+        chart
+            .draw_series(DashedLineSeries::new(
+                pts.iter().map(|&(x, y, _)| (x, clip(y))),
+                8,
+                4,
+                c.stroke_width(2),
+            ))
+            .map_err(plot_err)?;
+    } else if s.joined {
+        chart
+            .draw_series(LineSeries::new(
+                pts.iter().map(|&(x, y, _)| (x, clip(y))),
+                c.stroke_width(2),
+            ))
+            .map_err(plot_err)?;
+    }
+    chart
+        .draw_series(
+            pts.iter()
+                .filter(|q| q.2.is_finite() && q.2 > 0.0)
+                .map(|&(x, y, e)| {
+                    ErrorBar::new_vertical(
+                        x,
+                        clip(y - e),
+                        y,
+                        clip(y + e),
+                        c.filled().stroke_width(1),
+                        6,
+                    )
+                }),
+        )
+        .map_err(plot_err)?;
+    chart
+        .draw_series(
+            pts.iter()
+                .map(|&(x, y, _)| Circle::new((x, y), 3, c.filled())),
+        )
+        .map_err(plot_err)?
+        .label(s.label.clone())
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c.stroke_width(2)));
+    chart
+        .draw_series(
+            s.predicted
+                .iter()
+                .filter(|&&(x, y)| drawable(x, y, log_x))
+                .map(|&(x, y)| Circle::new((x, y), 6, c.stroke_width(1))),
+        )
+        .map_err(plot_err)?;
+    Ok(())
 }
 
 /// One labelled point of a [`labelled_scatter`].
@@ -289,7 +317,7 @@ pub fn labelled_scatter(
     x_label: &str,
     y_label: &str,
     points: &[Labelled],
-) -> Result<String, String> {
+) -> Result<String> {
     let fin: Vec<&Labelled> = points
         .iter()
         .filter(|p| p.x.is_finite() && p.y.is_finite())

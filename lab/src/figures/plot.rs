@@ -1,5 +1,6 @@
 //! Line plots: the log-log convergence plot and the radial spectrum plot.
 
+use crate::{LabError, Result};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -12,8 +13,9 @@ const BAND: RGBColor = RGBColor(157, 183, 224);
 const FIT: RGBColor = RGBColor(192, 57, 43);
 const GREY: RGBColor = RGBColor(110, 110, 110);
 
-pub(crate) fn plot_err<E: std::fmt::Debug>(e: E) -> String {
-    format!("internal error: drawing a figure: {e:?}")
+/// [`LabError::Internal`] for a `plotters` drawing error.
+pub(crate) fn plot_err<E: std::fmt::Debug>(e: E) -> LabError {
+    LabError::Internal(format!("drawing a figure: {e:?}"))
 }
 
 /// One data point: `x > 0`, `y`, and the standard error of `y` (error bar
@@ -95,7 +97,7 @@ pub(crate) fn titled<'a>(
     root: &DrawingArea<SVGBackend<'a>, Shift>,
     title: &str,
     subtitle: &str,
-) -> Result<DrawingArea<SVGBackend<'a>, Shift>, String> {
+) -> Result<DrawingArea<SVGBackend<'a>, Shift>> {
     root.fill(&WHITE).map_err(plot_err)?;
     let (w, _) = root.dim_in_pixel();
     let (head, body) = root.split_vertically(56);
@@ -142,7 +144,7 @@ macro_rules! legend {
 ///
 /// # Errors
 /// Only on an internal drawing error.
-pub fn loglog(p: &LogLog<'_>) -> Result<String, String> {
+pub fn loglog(p: &LogLog<'_>) -> Result<String> {
     let pts: Vec<Point> = p
         .points
         .iter()
@@ -252,7 +254,7 @@ pub fn loglog(p: &LogLog<'_>) -> Result<String, String> {
 ///
 /// # Errors
 /// Only on an internal drawing error.
-pub fn radial(p: &Radial<'_>) -> Result<String, String> {
+pub fn radial(p: &Radial<'_>) -> Result<String> {
     let k = p.k.max(1);
     let rings = 1..=p.k;
     let (mut lo, mut hi) = (0.0f64, 0.0f64); // log10, including the level 1

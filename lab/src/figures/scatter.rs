@@ -3,6 +3,7 @@
 use plotters::prelude::*;
 
 use super::plot::plot_err;
+use crate::{LabError, Result};
 
 /// At most this many points are drawn per panel (the first ones; the title
 /// says so): larger SVGs are too big for a browser to show, and the text
@@ -26,9 +27,9 @@ fn dot_radius(n: usize, panel: u32) -> i32 {
 ///
 /// # Errors
 /// Only on an internal drawing error or `dims ∉ 1..=3`.
-pub fn scatter(coords: &[f32], dims: usize, title: &str) -> Result<String, String> {
+pub fn scatter(coords: &[f32], dims: usize, title: &str) -> Result<String> {
     if !(1..=3).contains(&dims) {
-        return Err(format!("internal error: scatter of {dims}D points"));
+        return Err(LabError::Internal(format!("scatter of {dims}D points")));
     }
     let n = coords.len() / dims;
     let shown = n.min(MAX_SCATTER_POINTS);

@@ -26,6 +26,8 @@ use std::path::{Path, PathBuf};
 
 use tempfile::{NamedTempFile, TempPath};
 
+use crate::{LabError, Result};
+
 /// A group of files written together (see the module docs).
 #[derive(Debug)]
 pub struct FileGroup {
@@ -103,24 +105,24 @@ impl FileGroup {
     /// new temporary file next to it (buffered; flushed and synced here).
     ///
     /// # Errors
-    /// A message naming `target` (or its directory) and the I/O error; the
-    /// temporary file is removed.
+    /// [`LabError::Io`] naming `target` (or its directory) and the I/O error;
+    /// the temporary file is removed.
     pub fn add(
         &mut self,
         target: impl Into<PathBuf>,
         write: impl FnOnce(&mut dyn Write) -> io::Result<()>,
-    ) -> Result<(), String> {
+    ) -> Result<()> {
         let target = target.into();
         if target.file_name().is_none() {
-            return Err(format!(
-                "cannot write {}: not a file name",
-                target.display()
+            return Err(LabError::io(
+                "write",
+                &target,
+                io::Error::new(io::ErrorKind::InvalidInput, "not a file name"),
             ));
         }
         let dir = parent_dir(&target);
-        fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create directory {}: {e}", dir.display()))?;
-        let ctx = |e: io::Error| format!("cannot write {}: {e}", target.display());
+        fs::create_dir_all(dir).map_err(LabError::io_at("create directory", dir))?;
+        let ctx = |e: io::Error| LabError::io("write", &target, e);
         let prefix = temp_prefix(&target);
         let mut builder = tempfile::Builder::new();
         builder.prefix(&prefix).suffix(".tmp");
@@ -130,14 +132,14 @@ impl FileGroup {
             use std::os::unix::fs::PermissionsExt;
             builder.permissions(fs::Permissions::from_mode(0o666));
         }
-        let mut tmp = builder.tempfile_in(dir).map_err(ctx)?;
+        let mut tmp = builder.tempfile_in(dir).map_err(&ctx)?;
         {
             let mut w = BufWriter::new(tmp.as_file_mut());
-            write(&mut w).map_err(ctx)?;
-            w.flush().map_err(ctx)?;
+            write(&mut w).map_err(&ctx)?;
+            w.flush().map_err(&ctx)?;
         }
         if self.durable {
-            tmp.as_file().sync_all().map_err(ctx)?;
+            tmp.as_file().sync_all().map_err(&ctx)?;
         }
         self.staged.push((target, tmp));
         Ok(())
@@ -147,7 +149,7 @@ impl FileGroup {
     ///
     /// # Errors
     /// As [`FileGroup::add`].
-    pub fn add_bytes(&mut self, target: impl Into<PathBuf>, bytes: &[u8]) -> Result<(), String> {
+    pub fn add_bytes(&mut self, target: impl Into<PathBuf>, bytes: &[u8]) -> Result<()> {
         self.add(target, |w| w.write_all(bytes))
     }
 
@@ -162,7 +164,7 @@ impl FileGroup {
         target: impl Into<PathBuf>,
         notes: &[String],
         rows: &[R],
-    ) -> Result<(), String> {
+    ) -> Result<()> {
         let target = target.into();
         let bytes = crate::io::table::csv(rows)?;
         self.add_bytes(&target, &bytes)?;
@@ -191,9 +193,10 @@ impl FileGroup {
     /// Renames every staged file into place, all or nothing (module docs).
     ///
     /// # Errors
-    /// A message naming the file that could not be written; every target is
-    /// then as it was before the call.
-    pub fn commit(self) -> Result<(), String> {
+    /// [`LabError::Io`] naming the file that could not be written (a
+    /// [`LabError::Message`] that also names the targets that could not be
+    /// restored, if any); every target is then as it was before the call.
+    pub fn commit(self) -> Result<()> {
         let targets: Vec<PathBuf> = self.staged.iter().map(|(t, _)| t.clone()).collect();
         let mut backups: Vec<Option<TempPath>> = Vec::with_capacity(targets.len());
         for t in &targets {
@@ -218,17 +221,22 @@ impl FileGroup {
             }
             return Ok(());
         };
-        let mut msg = format!("cannot write {}: {err}", target.display());
+        let mut unrestored = String::new();
         for (t, b) in targets.iter().zip(&backups).take(placed).rev() {
             let undone = match b {
                 Some(b) => fs::rename(b, t),
                 None => fs::remove_file(t),
             };
             if let Err(e) = undone {
-                msg.push_str(&format!("; and {} could not be restored: {e}", t.display()));
+                unrestored.push_str(&format!("; and {} could not be restored: {e}", t.display()));
             }
         }
-        Err(msg)
+        let err = LabError::io("write", target, err);
+        if unrestored.is_empty() {
+            Err(err)
+        } else {
+            Err(LabError::Message(format!("{err}{unrestored}")))
+        }
     }
 }
 
@@ -245,7 +253,7 @@ fn unique_dirs(targets: &[PathBuf]) -> Vec<&Path> {
 
 /// A hard link (or copy) of `target` under a unique temporary name in its
 /// directory, if `target` is an existing regular file.
-fn backup(target: &Path) -> Result<Option<TempPath>, String> {
+fn backup(target: &Path) -> Result<Option<TempPath>> {
     match fs::symlink_metadata(target) {
         Ok(m) if m.is_file() => {}
         _ => return Ok(None),
@@ -265,10 +273,10 @@ fn backup(target: &Path) -> Result<Option<TempPath>, String> {
         })
         .map(|f| Some(f.into_temp_path()))
         .map_err(|e| {
-            format!(
+            LabError::Message(format!(
                 "cannot write {}: cannot keep a backup of it: {e}",
                 target.display()
-            )
+            ))
         })
 }
 
@@ -328,7 +336,7 @@ mod tests {
         let mut g = FileGroup::new();
         g.add_bytes(&a, b"new a").unwrap();
         g.add_bytes(&b, b"new b").unwrap();
-        let err = g.commit().unwrap_err();
+        let err = g.commit().unwrap_err().to_string();
         assert!(
             err.starts_with("cannot write ") && err.contains("b.svg"),
             "{err}"
@@ -366,7 +374,8 @@ mod tests {
         let mut g = FileGroup::new();
         let e = g
             .add(d.path().join("a"), |_| Err(io::Error::other("boom")))
-            .unwrap_err();
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("boom") && e.contains("a"), "{e}");
         assert!(g.is_empty());
         assert!(listing(d.path()).is_empty());

@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 
 use serde::Serialize;
 
+use crate::{LabError, Result};
+
 /// `PREFIX` + `suffix`, e.g. `out/conv` + `.csv`.
 #[must_use]
 pub fn suffixed(prefix: &Path, suffix: &str) -> PathBuf {
@@ -22,10 +24,9 @@ pub fn suffixed(prefix: &Path, suffix: &str) -> PathBuf {
 /// Pretty-printed JSON with a final newline.
 ///
 /// # Errors
-/// A message if the value cannot be serialised (a bug in its type).
-pub fn json<T: Serialize + ?Sized>(value: &T) -> Result<Vec<u8>, String> {
-    let mut v =
-        serde_json::to_vec_pretty(value).map_err(|e| format!("internal error: JSON: {e}"))?;
+/// [`LabError::Json`] if the value cannot be serialised (a bug in its type).
+pub fn json<T: Serialize + ?Sized>(value: &T) -> Result<Vec<u8>> {
+    let mut v = serde_json::to_vec_pretty(value)?;
     v.push(b'\n');
     Ok(v)
 }
@@ -34,18 +35,19 @@ pub fn json<T: Serialize + ?Sized>(value: &T) -> Result<Vec<u8>, String> {
 /// exist yet (every command's `--out` is a folder).
 ///
 /// # Errors
-/// `"<option> <dir>: expected an output folder, but it is a file"`.
-pub fn check_folder(option: &str, dir: &Path) -> Result<(), String> {
+/// [`LabError::Usage`]: `"<option> <dir>: expected an output folder, but it is
+/// a file"`.
+pub fn check_folder(option: &str, dir: &Path) -> Result<()> {
     if dir.exists() && !dir.is_dir() {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "{option} {}: expected an output folder, but it is a file",
             dir.display()
-        ));
+        )));
     }
     if dir.as_os_str().is_empty() {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "{option}: expected an output folder, got an empty path"
-        ));
+        )));
     }
     Ok(())
 }

@@ -5,6 +5,8 @@
 
 use serde::{Serialize, Serializer};
 
+use crate::{LabError, Result};
+
 /// CSV text: the header (the row type's field names), then one line per
 /// row. Nothing precedes the header, so `pandas.read_csv`, Python's
 /// `csv.DictReader` and spreadsheets read it as it is; what a file's
@@ -13,19 +15,18 @@ use serde::{Serialize, Serializer};
 /// [`crate::experiments::OutputManifest::notes`]).
 ///
 /// # Errors
-/// A message if a row cannot be serialised (a bug in a row type).
+/// [`LabError::Csv`] if a row cannot be serialised (a bug in a row type).
 ///
 /// [`FileGroup::add_csv`]: crate::io::FileGroup::add_csv
-pub fn csv<R: Serialize>(rows: &[R]) -> Result<Vec<u8>, String> {
+pub fn csv<R: Serialize>(rows: &[R]) -> Result<Vec<u8>> {
     let mut w = csv::WriterBuilder::new()
         .terminator(csv::Terminator::Any(b'\n'))
         .from_writer(Vec::new());
     for r in rows {
-        w.serialize(r)
-            .map_err(|e| format!("internal error: CSV row: {e}"))?;
+        w.serialize(r)?;
     }
     w.into_inner()
-        .map_err(|e| format!("internal error: CSV: {}", e.error()))
+        .map_err(|e| LabError::Internal(format!("CSV: {}", e.error())))
 }
 
 /// Rust's shortest round-trip scientific form, e.g. `1.2345e-5`, `5e-1`.

@@ -39,6 +39,8 @@ pub use progress::Progress;
 pub use shard::Shard;
 pub use state::{Manifest, StateDir, Stored};
 
+use crate::{LabError, Result};
+
 /// Largest `--threads`.
 pub const MAX_THREADS: usize = 1024;
 
@@ -130,23 +132,28 @@ impl Ctx<'_> {
     }
 
     /// Realisations `0 … total − 1` of one estimator, in chunks of `chunk`
-    /// on the pool ([`Ctx::map_ordered`]): each chunk makes its scratch with
-    /// `init` and calls `one(&mut scratch, r)` for each of its realisations
-    /// `r`, reporting progress per chunk. Returns their statistics, merged in
-    /// chunk order (the same for any thread count), and the seconds per
-    /// estimate (each chunk timed on its own thread).
+    /// on the pool (as [`Ctx::map_ordered`]): each chunk makes its scratch
+    /// with `init` and calls `one(&mut scratch, r)` for each of its
+    /// realisations `r`, reporting progress per chunk. Returns their
+    /// statistics, merged in chunk order (the same for any thread count), and
+    /// the seconds per estimate (each chunk timed on its own thread).
+    ///
+    /// The error type `E` is the closures' own: [`LabError`], or a `String`
+    /// for code not yet migrated.
     ///
     /// # Errors
     /// The first error of `init` or `one`.
-    pub fn realisations<S>(
+    pub fn realisations<S, E: From<LabError> + Send>(
         &self,
         total: u64,
         chunk: u64,
-        init: impl Fn() -> Result<S, String> + Sync + Send,
-        one: impl Fn(&mut S, u64) -> Result<f64, String> + Sync + Send,
-    ) -> Result<(RunningStats, f64), String> {
+        init: impl Fn() -> Result<S, E> + Sync + Send,
+        one: impl Fn(&mut S, u64) -> Result<f64, E> + Sync + Send,
+    ) -> Result<(RunningStats, f64), E> {
         let chunk = chunk.max(1);
-        let parts = self.map_ordered(total.div_ceil(chunk) as usize, |c| {
+        let count = total.div_ceil(chunk) as usize;
+        let parts = (0..count).into_par_iter().map(|c| {
+            stop::check()?;
             let mut scratch = init()?;
             let mut rs = RunningStats::new();
             let r0 = c as u64 * chunk;
@@ -158,7 +165,8 @@ impl Ctx<'_> {
             let secs = t.elapsed().as_secs_f64();
             self.advance(r1 - r0);
             Ok((rs, secs))
-        })?;
+        });
+        let parts = parts.collect::<Result<Vec<_>, E>>()?;
         let mut all = RunningStats::new();
         let mut secs = 0.0;
         for (rs, t) in &parts {
@@ -208,17 +216,24 @@ pub enum Outcome<C> {
 /// The worker pool for `threads` (default: the available parallelism).
 ///
 /// # Errors
-/// If `threads` is 0 or above [`MAX_THREADS`], or the threads cannot start.
-pub fn pool(threads: Option<usize>) -> Result<(rayon::ThreadPool, usize), String> {
+/// [`LabError::Usage`] if `threads` is 0 or above [`MAX_THREADS`], or a
+/// message if the threads cannot start.
+pub fn pool(threads: Option<usize>) -> Result<(rayon::ThreadPool, usize)> {
     let t = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, usize::from));
     if t == 0 || t > MAX_THREADS {
-        return Err(format!("--threads {t}: expected 1 to {MAX_THREADS}"));
+        return Err(LabError::Usage(format!(
+            "--threads {t}: expected 1 to {MAX_THREADS}"
+        )));
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(t)
         .thread_name(|i| format!("linesample-lab-{i}"))
         .build()
-        .map_err(|e| format!("--threads {t}: cannot start the worker threads: {e}"))?;
+        .map_err(|e| {
+            LabError::Usage(format!(
+                "--threads {t}: cannot start the worker threads: {e}"
+            ))
+        })?;
     Ok((pool, t))
 }
 
@@ -247,12 +262,9 @@ pub fn command_line() -> String {
 ///
 /// # Errors
 /// A changed configuration in the state folder, a locked folder, an I/O
-/// error, or the first error of a cell.
-pub fn run<E: Experiment>(
-    exp: &E,
-    out: &Path,
-    opts: &RunOptions,
-) -> Result<Outcome<E::Cell>, String> {
+/// error, the first error of a cell, or [`LabError::Stopped`] after SIGINT or
+/// SIGTERM.
+pub fn run<E: Experiment>(exp: &E, out: &Path, opts: &RunOptions) -> Result<Outcome<E::Cell>> {
     let start = Instant::now();
     let (pool, threads) = pool(opts.threads)?;
     let cells = exp.cells();
@@ -271,38 +283,8 @@ pub fn run<E: Experiment>(
         command_line(),
         exp.config().clone(),
     );
-    match dir.read_manifest()? {
-        Some(stored) => state::check_manifest(&stored, &manifest, dir.path())?,
-        None => {
-            if !dir.cell_indices()?.is_empty() {
-                return Err(format!(
-                    "{} holds cells but no manifest; use --fresh to start over",
-                    dir.path().display()
-                ));
-            }
-            dir.write_manifest(&manifest)?;
-        }
-    }
-    let mut have: BTreeMap<usize, Stored<E::Cell>> = BTreeMap::new();
-    for i in dir.cell_indices()? {
-        if !mine.contains(&i) {
-            return Err(format!(
-                "{}: cell {i} does not belong to this run; use --fresh to start over",
-                dir.cell_path(i).display()
-            ));
-        }
-        match dir.read_cell(i) {
-            Ok(stored) => {
-                have.insert(i, stored);
-            }
-            // A damaged cell (e.g. after a power loss) is computed again.
-            Err(e) => {
-                if !opts.quiet {
-                    crate::err!("note: {e}: computing it again");
-                }
-            }
-        }
-    }
+    check_or_write_manifest(&dir, &manifest)?;
+    let mut have: BTreeMap<usize, Stored<E::Cell>> = stored_cells(&dir, &mine, opts.quiet)?;
     let resumed = have.len();
     let todo: Vec<usize> = mine
         .iter()
@@ -319,7 +301,7 @@ pub fn run<E: Experiment>(
     }
     let work: u64 = todo.iter().map(|&i| cells[i].work).sum();
     let progress = Progress::new(work, E::UNIT, mine.len(), resumed, !opts.quiet);
-    let one = |i: usize| -> Result<Stored<E::Cell>, String> {
+    let one = |i: usize| -> Result<Stored<E::Cell>> {
         stop::check()?;
         let t = Instant::now();
         let cell = exp.run_cell(
@@ -342,14 +324,12 @@ pub fn run<E: Experiment>(
     let computed = match computed {
         Ok(c) => c,
         Err(_) if stop::requested().is_some() => {
-            let sig = stop::requested().map_or_else(String::new, stop::signal_name);
-            let stored = dir.cell_indices().map_or(0, |v| v.len());
-            return Err(format!(
-                "stopped by {sig}: {stored} of {} cell(s) are stored in {}; run the same \
-                 command again to resume",
-                mine.len(),
-                dir.path().display()
-            ));
+            return Err(LabError::Stopped {
+                signal: stop::requested().unwrap_or_default(),
+                stored: dir.cell_indices().map_or(0, |v| v.len()),
+                cells: mine.len(),
+                state: dir.path().to_path_buf(),
+            });
         }
         Err(e) => {
             // A first run that failed before any cell leaves no state behind,
@@ -386,18 +366,67 @@ pub fn run<E: Experiment>(
     }
 }
 
+/// Checks the state folder's manifest against `manifest` (this run's), or
+/// writes it into a folder that has none (and no cells).
+fn check_or_write_manifest<C: Serialize>(dir: &StateDir, manifest: &Manifest<C>) -> Result<()> {
+    match dir.read_manifest()? {
+        Some(stored) => state::check_manifest(&stored, manifest, dir.path())?,
+        None => {
+            if !dir.cell_indices()?.is_empty() {
+                return Err(LabError::Message(format!(
+                    "{} holds cells but no manifest; use --fresh to start over",
+                    dir.path().display()
+                )));
+            }
+            dir.write_manifest(manifest)?;
+        }
+    }
+    Ok(())
+}
+
+/// The cells already in the state folder, by index; each must be one of
+/// `mine`. A cell that does not decode (e.g. after a power loss) is left out
+/// to be computed again, with a note unless `quiet`.
+fn stored_cells<C: DeserializeOwned>(
+    dir: &StateDir,
+    mine: &[usize],
+    quiet: bool,
+) -> Result<BTreeMap<usize, Stored<C>>> {
+    let mut have = BTreeMap::new();
+    for i in dir.cell_indices()? {
+        if !mine.contains(&i) {
+            return Err(LabError::Message(format!(
+                "{}: cell {i} does not belong to this run; use --fresh to start over",
+                dir.cell_path(i).display()
+            )));
+        }
+        match dir.read_cell(i) {
+            Ok(stored) => {
+                have.insert(i, stored);
+            }
+            // A damaged cell (e.g. after a power loss) is computed again.
+            Err(e) => {
+                if !quiet {
+                    crate::err!("note: {e}: computing it again");
+                }
+            }
+        }
+    }
+    Ok(have)
+}
+
 /// Reads the manifest of the state folder of `out` without locking it.
 ///
 /// # Errors
 /// If there is no readable manifest.
-pub fn read_manifest_json(out: &Path) -> Result<serde_json::Value, String> {
+pub fn read_manifest_json(out: &Path) -> Result<serde_json::Value> {
     let dir = state::state_path(out);
     state::read_manifest_at(&dir)?.ok_or_else(|| {
-        format!(
+        LabError::Message(format!(
             "{}: {} has no manifest; is it the --out of a sharded run?",
             out.display(),
             dir.display()
-        )
+        ))
     })
 }
 
@@ -415,7 +444,7 @@ pub fn merge<E: Experiment>(
     exp: &E,
     out: &Path,
     shards: &[PathBuf],
-) -> Result<(Vec<E::Cell>, RunInfo), String> {
+) -> Result<(Vec<E::Cell>, RunInfo)> {
     let start = Instant::now();
     let total = exp.cells().len();
     // Check every shard before writing anything.
@@ -425,12 +454,12 @@ pub fn merge<E: Experiment>(
         let shard: Shard = serde_json::from_value::<Option<Shard>>(
             stored.get("shard").cloned().unwrap_or_default(),
         )
-        .map_err(|e| format!("{}: the manifest's shard: {e}", path.display()))?
+        .map_err(|e| LabError::Message(format!("{}: the manifest's shard: {e}", path.display())))?
         .ok_or_else(|| {
-            format!(
+            LabError::Usage(format!(
                 "{}: not a sharded run (it was run without --shard)",
                 path.display()
-            )
+            ))
         })?;
         let expected = Manifest::new(
             E::KIND,
@@ -440,18 +469,21 @@ pub fn merge<E: Experiment>(
             exp.config().clone(),
         );
         state::check_manifest(&stored, &expected, &state::state_path(path))
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+            .map_err(|e| LabError::Message(format!("{}: {e}", path.display())))?;
         if let Some((first, _)) = seen.first() {
             if first.count != shard.count {
-                return Err(format!(
+                return Err(LabError::Usage(format!(
                     "{}: shard {shard}, but the first shard was one of {}",
                     path.display(),
                     first.count
-                ));
+                )));
             }
         }
         if seen.iter().any(|(s, _)| *s == shard) {
-            return Err(format!("{}: shard {shard} is given twice", path.display()));
+            return Err(LabError::Usage(format!(
+                "{}: shard {shard} is given twice",
+                path.display()
+            )));
         }
         seen.push((shard, path));
     }
@@ -461,25 +493,25 @@ pub fn merge<E: Experiment>(
         .map(|i| format!("{i}/{n}"))
         .collect();
     if !missing.is_empty() || shards.is_empty() {
-        return Err(format!(
+        return Err(LabError::Usage(format!(
             "merge needs every shard of the run; missing: {}",
             if missing.is_empty() {
                 "all".to_string()
             } else {
                 missing.join(", ")
             }
-        ));
+        )));
     }
     for &(shard, path) in &seen {
         let dir = state::state_path(path);
         for i in (0..total).filter(|&c| shard.owns(c)) {
             if !state::cell_file(&dir, i).is_file() {
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "{}: shard {shard} has not finished cell {i} ({}); rerun that shard's \
                      command to complete it",
                     path.display(),
                     exp.cells()[i].label
-                ));
+                )));
             }
         }
     }
@@ -496,7 +528,9 @@ pub fn merge<E: Experiment>(
             let p = state::cell_file(&from, i);
             let b = state::read_file(&p)?;
             state::decode_cell::<E::Cell>(&b, &p, i).map_err(|e| {
-                format!("{e}; rerun shard {shard} (it recomputes the cell) and merge again")
+                LabError::Message(format!(
+                    "{e}; rerun shard {shard} (it recomputes the cell) and merge again"
+                ))
             })?;
             dir.write_cell_bytes(i, &b)?;
         }
@@ -527,14 +561,14 @@ pub fn merge<E: Experiment>(
 ///
 /// # Errors
 /// A bad thread count or the first error of a cell.
-pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::Cell>, String> {
+pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::Cell>> {
     let (pool, _) = pool(threads)?;
     let progress = Progress::new(0, E::UNIT, exp.cells().len(), 0, false);
     let ctx = Ctx {
         progress: &progress,
     };
     let all: Vec<usize> = (0..exp.cells().len()).collect();
-    pool.install(|| each_cell(exp, &all, |i| exp.run_cell(i, &ctx)))
+    pool.install(|| each_cell(exp, &all, |i| Ok(exp.run_cell(i, &ctx)?)))
 }
 
 /// `f` on every cell of `indices`: the shared cells in parallel (unless `E`
@@ -544,8 +578,8 @@ pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::
 fn each_cell<E: Experiment, T: Send>(
     exp: &E,
     indices: &[usize],
-    f: impl Fn(usize) -> Result<T, String> + Sync + Send,
-) -> Result<Vec<T>, String> {
+    f: impl Fn(usize) -> Result<T> + Sync + Send,
+) -> Result<Vec<T>> {
     // (position in `indices`, cell index), split into exclusive and shared.
     type Cells = Vec<(usize, usize)>;
     let (alone, shared): (Cells, Cells) = indices

@@ -5,6 +5,8 @@ use std::str::FromStr;
 
 use serde::{Deserialize, Serialize};
 
+use crate::{LabError, Result};
+
 /// Shard `index` of `count` (1-based): the cells whose index `c` has
 /// `c mod count = index − 1`. The shards of one `count` partition the cells,
 /// whatever their number.
@@ -25,9 +27,9 @@ struct RawShard {
 }
 
 impl TryFrom<RawShard> for Shard {
-    type Error = String;
+    type Error = LabError;
 
-    fn try_from(r: RawShard) -> Result<Self, String> {
+    fn try_from(r: RawShard) -> Result<Self> {
         Shard::new(r.index, r.count)
     }
 }
@@ -36,10 +38,12 @@ impl Shard {
     /// Shard `index` of `count`.
     ///
     /// # Errors
-    /// Unless `1 ≤ index ≤ count`.
-    pub fn new(index: usize, count: usize) -> Result<Self, String> {
+    /// [`LabError::Usage`] unless `1 ≤ index ≤ count`.
+    pub fn new(index: usize, count: usize) -> Result<Self> {
         if index == 0 || count == 0 || index > count {
-            return Err(format!("{index}/{count} is not I/N with 1 <= I <= N"));
+            return Err(LabError::Usage(format!(
+                "{index}/{count} is not I/N with 1 <= I <= N"
+            )));
         }
         Ok(Shard { index, count })
     }
@@ -58,14 +62,14 @@ impl fmt::Display for Shard {
 }
 
 impl FromStr for Shard {
-    type Err = String;
+    type Err = LabError;
 
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
+    fn from_str(s: &str) -> Result<Self> {
         let bad = || {
-            format!(
+            LabError::Usage(format!(
                 "expected I/N with 1 <= I <= N, e.g. 2/8 (got '{s}'); in a Slurm job array use \
                  $((SLURM_ARRAY_TASK_ID+1))/$SLURM_ARRAY_TASK_COUNT"
-            )
+            ))
         };
         let (i, n) = s.split_once('/').ok_or_else(bad)?;
         let index: usize = i.trim().parse().map_err(|_| bad())?;
@@ -80,7 +84,10 @@ mod tests {
 
     #[test]
     fn parses_and_partitions() {
-        assert_eq!("2/3".parse(), Ok(Shard { index: 2, count: 3 }));
+        assert_eq!(
+            "2/3".parse::<Shard>().unwrap(),
+            Shard { index: 2, count: 3 }
+        );
         for bad in ["0/3", "4/3", "1", "a/b", "1/0", ""] {
             assert!(bad.parse::<Shard>().is_err(), "{bad}");
         }

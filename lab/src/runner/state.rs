@@ -27,6 +27,7 @@ use serde_json::Value;
 
 use super::Shard;
 use crate::io::{self, FileGroup};
+use crate::{LabError, Result};
 
 /// Version of the state layout and of the cell encodings; a folder written
 /// with another format is refused (start over with `--fresh`).
@@ -107,17 +108,14 @@ pub fn cell_file(state: &Path, index: usize) -> PathBuf {
 ///
 /// # Errors
 /// If it exists but cannot be read or parsed.
-pub fn read_manifest_at(state: &Path) -> Result<Option<Value>, String> {
+pub fn read_manifest_at(state: &Path) -> Result<Option<Value>> {
     let p = state.join(MANIFEST);
     match fs::read(&p) {
-        Ok(bytes) => serde_json::from_slice(&bytes).map(Some).map_err(|e| {
-            format!(
-                "{}: not a manifest ({e}); use --fresh to start over",
-                p.display()
-            )
-        }),
+        Ok(bytes) => serde_json::from_slice(&bytes)
+            .map(Some)
+            .map_err(|source| LabError::Manifest { path: p, source }),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
-        Err(e) => Err(format!("cannot read {}: {e}", p.display())),
+        Err(e) => Err(LabError::io("read", p, e)),
     }
 }
 
@@ -134,29 +132,27 @@ impl StateDir {
     ///
     /// # Errors
     /// If the folder cannot be created or another run holds the lock.
-    pub fn open(out: &Path) -> Result<Self, String> {
+    pub fn open(out: &Path) -> Result<Self> {
         let path = state_path(out);
         fs::create_dir_all(path.join("cells"))
-            .map_err(|e| format!("cannot create the state folder {}: {e}", path.display()))?;
+            .map_err(LabError::io_at("create the state folder", &path))?;
         let lock_path = path.join("lock");
         let lock = File::options()
             .create(true)
             .truncate(false)
             .write(true)
             .open(&lock_path)
-            .map_err(|e| format!("cannot open {}: {e}", lock_path.display()))?;
+            .map_err(LabError::io_at("open", &lock_path))?;
         match lock.try_lock() {
             Ok(()) => {}
             Err(fs::TryLockError::WouldBlock) => {
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "another linesample-lab run is using {}; wait for it to finish or choose \
                      another --out",
                     path.display()
-                ))
+                )))
             }
-            Err(fs::TryLockError::Error(e)) => {
-                return Err(format!("cannot lock {}: {e}", lock_path.display()))
-            }
+            Err(fs::TryLockError::Error(e)) => return Err(LabError::io("lock", lock_path, e)),
         }
         let dir = StateDir { path, _lock: lock };
         for d in [dir.path.clone(), dir.path.join("cells")] {
@@ -188,14 +184,14 @@ impl StateDir {
     ///
     /// # Errors
     /// If a file cannot be removed.
-    pub fn clear(&self) -> Result<(), String> {
+    pub fn clear(&self) -> Result<()> {
         let m = self.path.join(MANIFEST);
         if m.exists() {
-            fs::remove_file(&m).map_err(|e| format!("cannot remove {}: {e}", m.display()))?;
+            fs::remove_file(&m).map_err(LabError::io_at("remove", &m))?;
         }
         for i in self.cell_indices()? {
             let p = self.cell_path(i);
-            fs::remove_file(&p).map_err(|e| format!("cannot remove {}: {e}", p.display()))?;
+            fs::remove_file(&p).map_err(LabError::io_at("remove", &p))?;
         }
         Ok(())
     }
@@ -204,7 +200,7 @@ impl StateDir {
     ///
     /// # Errors
     /// If it exists but cannot be read or parsed.
-    pub fn read_manifest(&self) -> Result<Option<Value>, String> {
+    pub fn read_manifest(&self) -> Result<Option<Value>> {
         read_manifest_at(&self.path)
     }
 
@@ -212,7 +208,7 @@ impl StateDir {
     ///
     /// # Errors
     /// On an I/O error.
-    pub fn write_manifest<C: Serialize>(&self, m: &Manifest<C>) -> Result<(), String> {
+    pub fn write_manifest<C: Serialize>(&self, m: &Manifest<C>) -> Result<()> {
         let mut g = FileGroup::new();
         g.add_bytes(self.path.join(MANIFEST), &io::json(m)?)?;
         g.commit()
@@ -228,10 +224,9 @@ impl StateDir {
     ///
     /// # Errors
     /// If the folder cannot be listed or holds a file that is not a cell.
-    pub fn cell_indices(&self) -> Result<Vec<usize>, String> {
+    pub fn cell_indices(&self) -> Result<Vec<usize>> {
         let dir = self.path.join("cells");
-        let entries =
-            fs::read_dir(&dir).map_err(|e| format!("cannot list {}: {e}", dir.display()))?;
+        let entries = fs::read_dir(&dir).map_err(LabError::io_at("list", &dir))?;
         let mut v = Vec::new();
         for e in entries.flatten() {
             let name = e.file_name().to_string_lossy().into_owned();
@@ -242,10 +237,10 @@ impl StateDir {
                 .strip_suffix(".bin")
                 .and_then(|s| s.parse::<usize>().ok())
                 .ok_or_else(|| {
-                    format!(
+                    LabError::Message(format!(
                         "{}: not a cell file; remove it or use --fresh",
                         e.path().display()
-                    )
+                    ))
                 })?;
             v.push(index);
         }
@@ -257,7 +252,7 @@ impl StateDir {
     ///
     /// # Errors
     /// If the file cannot be read or decoded, or holds another cell.
-    pub fn read_cell<C: DeserializeOwned>(&self, index: usize) -> Result<Stored<C>, String> {
+    pub fn read_cell<C: DeserializeOwned>(&self, index: usize) -> Result<Stored<C>> {
         read_cell_file(&self.cell_path(index), index)
     }
 
@@ -265,8 +260,9 @@ impl StateDir {
     ///
     /// # Errors
     /// On an encoding or I/O error.
-    pub fn write_cell<C: Serialize>(&self, stored: &Stored<C>) -> Result<(), String> {
-        let index = usize::try_from(stored.index).map_err(|_| "internal error: cell index")?;
+    pub fn write_cell<C: Serialize>(&self, stored: &Stored<C>) -> Result<()> {
+        let index =
+            usize::try_from(stored.index).map_err(|_| LabError::Internal("cell index".into()))?;
         let mut g = FileGroup::volatile();
         // Streamed: no second copy of a large accumulator in memory.
         g.add(self.cell_path(index), |w| {
@@ -282,7 +278,7 @@ impl StateDir {
     ///
     /// # Errors
     /// On an I/O error.
-    pub fn write_cell_bytes(&self, index: usize, bytes: &[u8]) -> Result<(), String> {
+    pub fn write_cell_bytes(&self, index: usize, bytes: &[u8]) -> Result<()> {
         let mut g = FileGroup::volatile();
         g.add_bytes(self.cell_path(index), bytes)?;
         g.commit()
@@ -293,7 +289,7 @@ impl StateDir {
 ///
 /// # Errors
 /// If the file cannot be read or decoded, or holds another cell.
-pub fn read_cell_file<C: DeserializeOwned>(path: &Path, index: usize) -> Result<Stored<C>, String> {
+pub fn read_cell_file<C: DeserializeOwned>(path: &Path, index: usize) -> Result<Stored<C>> {
     let bytes = read_file(path)?;
     decode_cell(&bytes, path, index)
 }
@@ -302,14 +298,15 @@ pub fn read_cell_file<C: DeserializeOwned>(path: &Path, index: usize) -> Result<
 ///
 /// # Errors
 /// If the file cannot be read or its buffer cannot be allocated.
-pub fn read_file(path: &Path) -> Result<Vec<u8>, String> {
+pub fn read_file(path: &Path) -> Result<Vec<u8>> {
     use std::io::Read;
-    let err = |e: std::io::Error| format!("cannot read {}: {e}", path.display());
-    let mut f = File::open(path).map_err(err)?;
-    let len = f.metadata().map_err(err)?.len();
-    let len = usize::try_from(len).map_err(|_| format!("{}: too large", path.display()))?;
+    let err = LabError::io_at("read", path);
+    let mut f = File::open(path).map_err(&err)?;
+    let len = f.metadata().map_err(&err)?.len();
+    let len = usize::try_from(len)
+        .map_err(|_| LabError::Message(format!("{}: too large", path.display())))?;
     let mut bytes = io::buffer::empty(len, &path.display().to_string())?;
-    f.read_to_end(&mut bytes).map_err(err)?;
+    f.read_to_end(&mut bytes).map_err(&err)?;
     Ok(bytes)
 }
 
@@ -321,15 +318,16 @@ pub fn decode_cell<C: DeserializeOwned>(
     bytes: &[u8],
     path: &Path,
     index: usize,
-) -> Result<Stored<C>, String> {
-    let stored: Stored<C> = postcard::from_bytes(bytes)
-        .map_err(|e| format!("{}: cannot decode the cell ({e})", path.display()))?;
+) -> Result<Stored<C>> {
+    let stored: Stored<C> = postcard::from_bytes(bytes).map_err(|e| {
+        LabError::Message(format!("{}: cannot decode the cell ({e})", path.display()))
+    })?;
     if stored.index != index as u64 {
-        return Err(format!(
+        return Err(LabError::Message(format!(
             "{}: holds cell {} instead of {index}",
             path.display(),
             stored.index
-        ));
+        )));
     }
     Ok(stored)
 }
@@ -339,16 +337,12 @@ pub fn decode_cell<C: DeserializeOwned>(
 /// # Errors
 /// A message saying what differs (experiment, version, format, shard, cell
 /// count, or which configuration fields), naming the folder and `--fresh`.
-pub fn check_manifest<C: Serialize>(
-    stored: &Value,
-    now: &Manifest<C>,
-    dir: &Path,
-) -> Result<(), String> {
+pub fn check_manifest<C: Serialize>(stored: &Value, now: &Manifest<C>, dir: &Path) -> Result<()> {
     let refuse = |what: String| {
-        Err(format!(
+        Err(LabError::Message(format!(
             "{} holds a run with {what}; use --fresh to discard it, or choose another --out",
             dir.display()
-        ))
+        )))
     };
     let field = |k: &str| stored.get(k).cloned().unwrap_or(Value::Null);
     if field("format") != now.format {
@@ -372,7 +366,7 @@ pub fn check_manifest<C: Serialize>(
             now.version
         ));
     }
-    let shard = serde_json::to_value(now.shard).map_err(|e| format!("internal error: {e}"))?;
+    let shard = serde_json::to_value(now.shard)?;
     if field("shard") != shard {
         let show = |v: &Value| match (v.get("index"), v.get("count")) {
             (Some(i), Some(n)) => format!("--shard {i}/{n}"),
@@ -384,7 +378,7 @@ pub fn check_manifest<C: Serialize>(
             show(&shard)
         ));
     }
-    let config = serde_json::to_value(&now.config).map_err(|e| format!("internal error: {e}"))?;
+    let config = serde_json::to_value(&now.config)?;
     let old = field("config");
     if old != config {
         let diffs = differences(&old, &config);
@@ -459,7 +453,9 @@ mod tests {
                 r: 200,
             },
         );
-        let e = check_manifest(&stored, &other, d.path()).unwrap_err();
+        let e = check_manifest(&stored, &other, d.path())
+            .unwrap_err()
+            .to_string();
         assert!(
             e.contains("r: stored 100, now 200") && e.contains("--fresh"),
             "{e}"
@@ -471,11 +467,14 @@ mod tests {
             "cmd".into(),
             m.config.clone(),
         );
-        let e = check_manifest(&stored, &sharded, d.path()).unwrap_err();
+        let e = check_manifest(&stored, &sharded, d.path())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no --shard") && e.contains("--shard 1/2"), "{e}");
         let spec = Manifest::new("spectrum", 3, None, "cmd".into(), m.config.clone());
         assert!(check_manifest(&stored, &spec, d.path())
             .unwrap_err()
+            .to_string()
             .contains("experiment"));
     }
 
@@ -485,7 +484,7 @@ mod tests {
         let out = d.path().join("run");
         let s = StateDir::open(&out).unwrap();
         assert_eq!(s.path(), d.path().join("run.state"));
-        let e = StateDir::open(&out).unwrap_err();
+        let e = StateDir::open(&out).unwrap_err().to_string();
         assert!(e.contains("another linesample-lab run"), "{e}");
         s.write_cell(&Stored {
             index: 7,
@@ -502,11 +501,13 @@ mod tests {
         assert!(s
             .read_cell::<Vec<f64>>(8)
             .unwrap_err()
+            .to_string()
             .contains("holds cell 7"));
         fs::write(s.cell_path(9), b"\xff").unwrap();
         assert!(s
             .read_cell::<Vec<f64>>(9)
             .unwrap_err()
+            .to_string()
             .contains("cannot decode"));
         s.clear().unwrap();
         assert!(s.cell_indices().unwrap().is_empty());

@@ -16,6 +16,8 @@ use std::sync::{Arc, OnceLock};
 
 use signal_hook::consts::{SIGINT, SIGTERM};
 
+use crate::{LabError, Result};
+
 struct Flags {
     stop: Arc<AtomicBool>,
     signal: Arc<AtomicUsize>,
@@ -33,8 +35,10 @@ fn flags() -> &'static Flags {
 /// Installs the SIGINT and SIGTERM handlers (idempotent).
 ///
 /// # Errors
-/// If the operating system refuses a handler.
-pub fn install() -> Result<(), String> {
+/// A [`LabError::Message`] if the operating system refuses a handler.
+pub fn install() -> Result<()> {
+    // The outcome is kept (and cloned) as a message: an I/O error is not
+    // `Clone`.
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         let f = flags();
@@ -52,6 +56,7 @@ pub fn install() -> Result<(), String> {
         Ok(())
     })
     .clone()
+    .map_err(LabError::Message)
 }
 
 /// The signal that asked the run to stop, if one did.
@@ -77,13 +82,13 @@ pub fn signal_name(sig: i32) -> String {
 }
 
 /// The error a cell returns when the run was asked to stop (replaced by the
-/// runner's full message).
+/// runner's [`LabError::Stopped`]).
 pub(crate) const STOPPED: &str = "stopped by a signal";
 
 /// `Err(STOPPED)` once a stop was requested.
-pub(crate) fn check() -> Result<(), String> {
+pub(crate) fn check() -> Result<()> {
     match requested() {
-        Some(_) => Err(STOPPED.into()),
+        Some(_) => Err(LabError::Message(STOPPED.into())),
         None => Ok(()),
     }
 }

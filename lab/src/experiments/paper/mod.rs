@@ -35,6 +35,7 @@ use crate::runner::{CellInfo, Ctx, Experiment};
 use crate::sampler::{self, PatternSpec};
 use crate::spec::MergeRequest;
 use crate::spec::Primitive;
+use crate::{LabError, Result};
 
 pub use plan::{Config, Curve, Mode};
 
@@ -113,7 +114,7 @@ impl Paper {
     ///
     /// # Errors
     /// The first invalid curve's message.
-    pub fn new(config: Config) -> Result<Self, String> {
+    pub fn new(config: Config) -> Result<Self> {
         let mut convs = Vec::new();
         let mut jobs = Vec::new();
         let mut cells = Vec::new();
@@ -214,13 +215,14 @@ impl Experiment for Paper {
 }
 
 impl Paper {
-    fn job(&self, index: usize, cfg: &Config, ctx: &Ctx<'_>) -> Result<Cell, String> {
+    fn job(&self, index: usize, cfg: &Config, ctx: &Ctx<'_>) -> Result<Cell> {
         match self.jobs[index] {
             Job::Conv { curve, row } => {
                 let conv = self.convs[curve]
                     .as_ref()
-                    .ok_or("internal error: no convergence experiment")?;
-                conv.run_cell(row, ctx).map(Cell::Conv)
+                    .ok_or_else(|| LabError::Internal("no convergence experiment".into()))?;
+                // `run_cell` keeps the runner trait's `String` error.
+                Ok(conv.run_cell(row, ctx).map(Cell::Conv)?)
             }
             Job::Edge { curve, row } => edge_row(&cfg.curves[curve], row, ctx).map(Cell::Conv),
             Job::Pred(i) => {
@@ -229,7 +231,7 @@ impl Paper {
                     1 => predict::<1>(cfg, p, ctx),
                     2 => predict::<2>(cfg, p, ctx),
                     3 => predict::<3>(cfg, p, ctx),
-                    d => Err(format!("internal error: a {d}-dimensional pattern")),
+                    d => Err(LabError::Internal(format!("a {d}-dimensional pattern"))),
                 }
                 .map(Cell::Pred)
             }
@@ -294,15 +296,17 @@ pub fn edge_offset(curve: &Curve, seed: Seed, r: u64) -> f64 {
 /// domain, whose boundary is then not a discontinuity the estimator sees).
 /// Seeds and chunks are those of `convergence` ([`convergence::row_seed`],
 /// [`convergence::run_chunks`]).
-fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cell, String> {
+fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cell> {
     let cfg = &curve.run;
     let row = cfg.rows[row];
     let Params::Edge { normal, .. } = &cfg.integrand.params else {
-        return Err("internal error: an edge curve without an edge".into());
+        return Err(LabError::Internal("an edge curve without an edge".into()));
     };
     let normal = Direction::<2>::new(to_array(normal)).map_err(|e| format!("edge normal: {e}"))?;
     let DirSpec::Fixed(d) = &cfg.dirs else {
-        return Err("internal error: an edge curve without a line direction".into());
+        return Err(LabError::Internal(
+            "an edge curve without a line direction".into(),
+        ));
     };
     let dir = Direction::<2>::new(to_array(d)).map_err(|e| format!("line direction: {e}"))?;
     let spec = pattern_spec(cfg.sampler, 1, row.per_group);
@@ -336,7 +340,7 @@ fn edge_row(curve: &Curve, row: usize, ctx: &Ctx<'_>) -> Result<convergence::Cel
 fn weights<const D: usize, const K: usize>(
     curve: &Curve,
     grid: Grid<K>,
-) -> Result<(Vec<f64>, f64), String> {
+) -> Result<(Vec<f64>, f64)> {
     let r = &curve.run;
     let f = r.integrand.build::<D>()?;
     let axis = match &r.dirs {
@@ -398,26 +402,22 @@ fn weights<const D: usize, const K: usize>(
     Ok((w, tail))
 }
 
-fn weights_for<const K: usize>(curve: &Curve, grid: Grid<K>) -> Result<(Vec<f64>, f64), String> {
+fn weights_for<const K: usize>(curve: &Curve, grid: Grid<K>) -> Result<(Vec<f64>, f64)> {
     match (curve.run.dims(), K) {
         (2, 2) => weights::<2, K>(curve, grid),
         (3, 3) => weights::<3, K>(curve, grid),
         (2, 1) => weights::<2, K>(curve, grid),
         (3, 2) => weights::<3, K>(curve, grid),
-        (d, k) => Err(format!(
-            "internal error: a {d}D curve predicted from a {k}D pattern"
-        )),
+        (d, k) => Err(LabError::Internal(format!(
+            "a {d}D curve predicted from a {k}D pattern"
+        ))),
     }
 }
 
 /// A prediction cell: realisations of the pattern (independent of the
 /// measured ones), their exact amplitudes, the mean periodogram and, per
 /// predicted row, the per-realisation predictions `V_r`.
-fn predict<const K: usize>(
-    cfg: &Config,
-    p: &plan::Prediction,
-    ctx: &Ctx<'_>,
-) -> Result<PredCell, String> {
+fn predict<const K: usize>(cfg: &Config, p: &plan::Prediction, ctx: &Ctx<'_>) -> Result<PredCell> {
     let grid = Grid::<K>::new(p.k).map_err(|e| format!("prediction grid k = {}: {e}", p.k))?;
     let pattern = sampler::build::<K>(&pattern_spec(p.sampler, K, p.n), false)?.pattern;
     let ws: Vec<(Vec<f64>, f64)> = p
@@ -489,13 +489,16 @@ fn predict<const K: usize>(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Paper::new(config_from(config, KIND)?)?;
-    merge_to_files(
+    Ok(merge_to_files(
         &exp,
         a,
-        Box::new(|e, c, i, o, q| report::complete(e, &c, i, o, q).map(|_| ())),
-    )
+        Box::new(|e, c, i, o, q| {
+            report::complete(e, &c, i, o, q)?;
+            Ok(())
+        }),
+    )?)
 }
 
 #[cfg(test)]

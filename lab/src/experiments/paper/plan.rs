@@ -485,7 +485,8 @@ fn rate_samplers(pattern_dims: usize) -> Vec<Sampler> {
     .collect()
 }
 
-/// The plan of `mode`.
+/// The plan of `mode`: the curves of each table, in this order (their
+/// indices are the cells' order), then the predictions and the timing.
 #[must_use]
 pub fn plan(mode: Mode, seed: u64) -> Config {
     let b = Budget::of(mode);
@@ -495,7 +496,34 @@ pub fn plan(mode: Mode, seed: u64) -> Config {
         index: BTreeMap::new(),
     };
     let reduced = mode == Mode::Reduced;
-    // 1. Rate tables.
+    let lengths = if reduced {
+        vec![0.1, 1.0]
+    } else {
+        vec![0.001, 0.01, 0.1, 0.4, 1.0]
+    };
+    add_rate_curves(&mut c, &b, reduced);
+    add_segment_curves(&mut c, &b, &lengths);
+    add_direction_curves(&mut c, &b);
+    add_offset_curves(&mut c, &b);
+    add_edge_curves(&mut c, &b, reduced);
+    let curves = c.curves;
+    let predictions = predictions(&curves, &b, mode);
+    let timing = timing(mode);
+    Config {
+        mode,
+        seed,
+        curves,
+        predictions,
+        timing,
+        lengths,
+        figure_n: 1024,
+        figure_length: 0.1,
+    }
+}
+
+/// Part 1, the rate tables: points and lines in 2D and 3D, each sampler on
+/// a smooth and the worst integrand.
+fn add_rate_curves(c: &mut Builder, b: &Budget, reduced: bool) {
     for dims in [2, 3] {
         for prim in [Primitive::Points, Primitive::Lines] {
             let pd = if prim == Primitive::Lines {
@@ -530,106 +558,107 @@ pub fn plan(mode: Mode, seed: u64) -> Config {
             }
         }
     }
-    // 2. Segments in 3D: points, segments of each length, lines.
-    let lengths = if reduced {
-        vec![0.1, 1.0]
-    } else {
-        vec![0.001, 0.01, 0.1, 0.4, 1.0]
-    };
-    {
-        for kind in [IntegrandKind::Ball, IntegrandKind::Gaussian] {
-            let s = Sampler::Jittered;
+}
+
+/// Part 2, segments in 3D: points, segments of each length, lines.
+fn add_segment_curves(c: &mut Builder, b: &Budget, lengths: &[f64]) {
+    for kind in [IntegrandKind::Ball, IntegrandKind::Gaussian] {
+        let s = Sampler::Jittered;
+        c.add(
+            Table::Segments,
+            spec(kind, 3),
+            Primitive::Points,
+            s,
+            0.1,
+            DirSpec::None,
+            &b.ns(s, 3),
+            b.realisations(s, Primitive::Points, 3),
+            None,
+        );
+        for &l in lengths {
             c.add(
                 Table::Segments,
                 spec(kind, 3),
-                Primitive::Points,
+                Primitive::Segments,
                 s,
-                0.1,
-                DirSpec::None,
-                &b.ns(s, 3),
-                b.realisations(s, Primitive::Points, 3),
-                None,
-            );
-            for &l in &lengths {
-                c.add(
-                    Table::Segments,
-                    spec(kind, 3),
-                    Primitive::Segments,
-                    s,
-                    l,
-                    axis(3, 2),
-                    &b.ns(s, 3),
-                    b.realisations(s, Primitive::Segments, 3),
-                    None,
-                );
-            }
-            c.add(
-                Table::Segments,
-                spec(kind, 3),
-                Primitive::Lines,
-                s,
-                0.1,
+                l,
                 axis(3, 2),
-                &b.ns(s, 2),
-                b.realisations(s, Primitive::Lines, 3),
+                &b.ns(s, 3),
+                b.realisations(s, Primitive::Segments, 3),
                 None,
             );
         }
+        c.add(
+            Table::Segments,
+            spec(kind, 3),
+            Primitive::Lines,
+            s,
+            0.1,
+            axis(3, 2),
+            &b.ns(s, 2),
+            b.realisations(s, Primitive::Lines, 3),
+            None,
+        );
     }
-    // 3. Direction groups (2D disk, jittered offsets; N divisible by 6 so
-    //    that K = 1, 2, 3 see the same total N), and random directions.
-    {
-        let ns: Vec<usize> = b
-            .ns(Sampler::Random, 1)
-            .iter()
-            .map(|&n| 6 * (n / 4).max(1))
-            .collect::<Vec<_>>();
-        for k in 1..=3 {
-            c.add(
-                Table::Directions,
-                spec(IntegrandKind::Disk, 2),
-                Primitive::Lines,
-                Sampler::Jittered,
-                0.1,
-                DirSpec::Groups(k),
-                &ns,
-                b.cheap,
-                None,
-            );
-        }
+}
+
+/// Part 3, direction groups (2D disk, jittered offsets; N divisible by 6 so
+/// that K = 1, 2, 3 see the same total N), and random directions.
+fn add_direction_curves(c: &mut Builder, b: &Budget) {
+    let ns: Vec<usize> = b
+        .ns(Sampler::Random, 1)
+        .iter()
+        .map(|&n| 6 * (n / 4).max(1))
+        .collect::<Vec<_>>();
+    for k in 1..=3 {
         c.add(
             Table::Directions,
             spec(IntegrandKind::Disk, 2),
             Primitive::Lines,
             Sampler::Jittered,
             0.1,
-            DirSpec::Random,
+            DirSpec::Groups(k),
             &ns,
             b.cheap,
             None,
         );
     }
-    // 4. Line offsets: random, jittered, Poisson disk (already in the rate
-    //    table; added to the offsets table).
-    {
-        for dims in [2, 3] {
-            for s in [Sampler::Random, Sampler::Jittered, Sampler::PoissonDisk] {
-                c.add(
-                    Table::Offsets,
-                    spec(worst(dims), dims),
-                    Primitive::Lines,
-                    s,
-                    0.1,
-                    axis(dims, dims - 1),
-                    &b.ns(s, dims - 1),
-                    b.realisations(s, Primitive::Lines, dims),
-                    None,
-                );
-            }
+    c.add(
+        Table::Directions,
+        spec(IntegrandKind::Disk, 2),
+        Primitive::Lines,
+        Sampler::Jittered,
+        0.1,
+        DirSpec::Random,
+        &ns,
+        b.cheap,
+        None,
+    );
+}
+
+/// Part 4, line offsets: random, jittered, Poisson disk (already in the
+/// rate table; added to the offsets table).
+fn add_offset_curves(c: &mut Builder, b: &Budget) {
+    for dims in [2, 3] {
+        for s in [Sampler::Random, Sampler::Jittered, Sampler::PoissonDisk] {
+            c.add(
+                Table::Offsets,
+                spec(worst(dims), dims),
+                Primitive::Lines,
+                s,
+                0.1,
+                axis(dims, dims - 1),
+                &b.ns(s, dims - 1),
+                b.realisations(s, Primitive::Lines, dims),
+                None,
+            );
         }
     }
-    // 5. Straight edge, 2D, jittered 1D offsets. Crossing: normal (0.7, 1),
-    //    lines along y; parallel: normal (0, 1), lines along x.
+}
+
+/// Part 5, the straight edge, 2D, jittered 1D offsets. Crossing: normal
+/// (0.7, 1), lines along y; parallel: normal (0, 1), lines along x.
+fn add_edge_curves(c: &mut Builder, b: &Budget, reduced: bool) {
     // About two N per octave, not powers of two: with a fixed edge, frac(h·N)
     // then jumps about with N (the pitfall).
     let edge_ns: Vec<usize> = ROOTS
@@ -663,19 +692,6 @@ pub fn plan(mode: Mode, seed: u64) -> Config {
                 hi,
             }),
         );
-    }
-    let curves = c.curves;
-    let predictions = predictions(&curves, &b, mode);
-    let timing = timing(mode);
-    Config {
-        mode,
-        seed,
-        curves,
-        predictions,
-        timing,
-        lengths,
-        figure_n: 1024,
-        figure_length: 0.1,
     }
 }
 

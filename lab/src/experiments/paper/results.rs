@@ -9,11 +9,13 @@ use serde::Serialize;
 
 use super::plan::{Curve, Table};
 use super::theory::Theory;
+use super::timing::{NufftRow, SimdRow};
 use super::{Cell, Paper};
 use crate::experiments::convergence::{self, DirSpec, RowResult};
 use crate::fit::{fit_loglog, Fit};
 use crate::integrand::IntegrandKind;
 use crate::spec::Primitive;
+use crate::{LabError, Result};
 
 /// Slope tolerance of the verdicts: a theory slope within the 95 % interval
 /// widened by this much is "consistent". A log-log fit over one to three
@@ -375,22 +377,22 @@ fn curve_rates(table: Table, ci: usize, c: &Curve, r: &CurveResult) -> Vec<RateR
 }
 
 /// A cell's convergence chunks, or an error naming it.
-fn conv_cell(cells: &[Cell], i: usize) -> Result<&convergence::Cell, String> {
+fn conv_cell(cells: &[Cell], i: usize) -> Result<&convergence::Cell> {
     match cells.get(i) {
         Some(Cell::Conv(c)) => Ok(c),
-        _ => Err(format!("internal error: cell {i} is not a curve row")),
+        _ => Err(LabError::Internal(format!("cell {i} is not a curve row"))),
     }
 }
 
 /// The rows of a randomised-edge curve (errors, so the exact value is 0).
-fn edge_rows(c: &Curve, cells: &[&convergence::Cell]) -> Result<Vec<RowResult>, String> {
+fn edge_rows(c: &Curve, cells: &[&convergence::Cell]) -> Result<Vec<RowResult>> {
     c.run
         .rows
         .iter()
         .zip(cells)
         .map(|(row, cell)| {
             convergence::row_result(row, cell, 0.0, c.run.realisations)
-                .map_err(|e| format!("{}: {e}", c.id))
+                .map_err(|e| LabError::Message(format!("{}: {e}", c.id)))
         })
         .collect()
 }
@@ -400,16 +402,47 @@ impl Paper {
     ///
     /// # Errors
     /// If a stored cell is invalid.
-    pub fn results(&self, cells: &[Cell]) -> Result<Results, String> {
+    pub fn results(&self, cells: &[Cell]) -> Result<Results> {
         let cfg = self.config();
         if cells.len() != self.jobs.len() {
-            return Err(format!(
-                "internal error: {} cells for {} jobs",
+            return Err(LabError::Internal(format!(
+                "{} cells for {} jobs",
                 cells.len(),
                 self.jobs.len()
-            ));
+            )));
         }
-        // Curves.
+        let (mut curves, mut cursor) = self.curve_results(cells)?;
+        let raw = self.read_predictions(cells, cursor, &mut curves)?;
+        cursor += cfg.predictions.len();
+        let z_crit = normal_quantile(PREDICTION_ALPHA / (2.0 * raw.len().max(1) as f64));
+        let predictions = prediction_rows(raw, &curves, z_crit);
+        let pooled_rel = pooled(&predictions);
+        let (simd, nufft) = timing_cells(&cells[cursor..])?;
+        let rates = rate_rows(cfg.curves.as_slice(), &curves);
+        let costs = costs(cfg.curves.as_slice(), &curves);
+        let time_to_error = time_to_error(cfg.curves.as_slice(), &costs);
+        let overtakes = overtakes(cfg.curves.as_slice(), &costs, &time_to_error);
+        let (dir_ratios, dir_rate) = dir_ratios(cfg.curves.as_slice(), &curves, &rates);
+        Ok(Results {
+            curves,
+            rates,
+            predictions,
+            z_crit,
+            pooled_rel,
+            costs,
+            time_to_error,
+            overtakes,
+            dir_ratios,
+            dir_rate,
+            simd,
+            nufft,
+        })
+    }
+
+    /// Every curve's rows and MSE (predictions not yet filled in), from the
+    /// cells in curve order; and the index of the first cell after them.
+    fn curve_results(&self, cells: &[Cell]) -> Result<(Vec<CurveResult>, usize)> {
+        let cfg = self.config();
         let mut curves = Vec::new();
         let mut cursor = 0;
         for (ci, c) in cfg.curves.iter().enumerate() {
@@ -438,21 +471,32 @@ impl Paper {
                 predicted,
             });
         }
-        // Predictions.
+        Ok((curves, cursor))
+    }
+
+    /// Fills in the curves' predicted variances from the prediction cells
+    /// (from `cursor` on) and returns them as `(curve, row, predicted, SE)`.
+    fn read_predictions(
+        &self,
+        cells: &[Cell],
+        cursor: usize,
+        curves: &mut [CurveResult],
+    ) -> Result<Vec<(usize, usize, f64, f64)>> {
+        let cfg = self.config();
         let mut raw = Vec::new();
         for (pi, p) in cfg.predictions.iter().enumerate() {
             let Some(Cell::Pred(pc)) = cells.get(cursor + pi) else {
-                return Err(format!(
-                    "internal error: cell {} is not a prediction",
+                return Err(LabError::Internal(format!(
+                    "cell {} is not a prediction",
                     cursor + pi
-                ));
+                )));
             };
             if pc.rows.len() != p.rows.len() {
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "stored prediction {pi} has {} rows, expected {}",
                     pc.rows.len(),
                     p.rows.len()
-                ));
+                )));
             }
             for (&(c, r), rp) in p.rows.iter().zip(&pc.rows) {
                 let st = RunningStats::from_parts(rp.n, rp.moments)
@@ -461,76 +505,72 @@ impl Paper {
                 raw.push((c, r, st.mean(), st.mean_std_error()));
             }
         }
-        cursor += cfg.predictions.len();
-        let z_crit = normal_quantile(PREDICTION_ALPHA / (2.0 * raw.len().max(1) as f64));
-        let predictions = raw
-            .into_iter()
-            .map(|(c, r, p, pse)| {
-                let m = &curves[c].rows[r];
-                let se = pse.hypot(m.variance_se);
-                let z = if se > 0.0 { (p - m.variance) / se } else { 0.0 };
-                let rel = p / m.variance - 1.0;
-                let resolves = z_crit * se / m.variance <= PREDICTION_REL;
-                PredRow {
-                    curve: c,
-                    row: r,
-                    n: m.row.n,
-                    predicted: p,
-                    predicted_se: pse,
-                    measured: m.variance,
-                    measured_se: m.variance_se,
-                    rel,
-                    z,
-                    resolves,
-                    agrees: z.abs() <= z_crit && (!resolves || rel.abs() <= PREDICTION_REL),
-                }
-            })
-            .collect::<Vec<PredRow>>();
-        let pooled_rel = pooled(&predictions);
-        // Timing.
-        let mut simd = Vec::new();
-        let mut nufft = Vec::new();
-        for cell in &cells[cursor..] {
-            match cell {
-                Cell::Simd(s) => simd.push(s.clone()),
-                Cell::Nufft(v) => nufft.extend(v.iter().cloned()),
-                _ => return Err("internal error: a timing cell out of place".into()),
-            }
-        }
-        // Rate tables.
-        let mut rates = Vec::new();
-        for table in [
-            Table::Rates,
-            Table::Segments,
-            Table::Directions,
-            Table::Offsets,
-            Table::Edge,
-        ] {
-            for (ci, c) in cfg.curves.iter().enumerate() {
-                if c.tables.contains(&table) {
-                    rates.extend(curve_rates(table, ci, c, &curves[ci]));
-                }
-            }
-        }
-        let costs = costs(cfg.curves.as_slice(), &curves);
-        let time_to_error = time_to_error(cfg.curves.as_slice(), &costs);
-        let overtakes = overtakes(cfg.curves.as_slice(), &costs, &time_to_error);
-        let (dir_ratios, dir_rate) = dir_ratios(cfg.curves.as_slice(), &curves, &rates);
-        Ok(Results {
-            curves,
-            rates,
-            predictions,
-            z_crit,
-            pooled_rel,
-            costs,
-            time_to_error,
-            overtakes,
-            dir_ratios,
-            dir_rate,
-            simd,
-            nufft,
-        })
+        Ok(raw)
     }
+}
+
+/// Each prediction against its measured variance: the z-score with the
+/// Bonferroni critical value `z_crit`, and whether it agrees.
+fn prediction_rows(
+    raw: Vec<(usize, usize, f64, f64)>,
+    curves: &[CurveResult],
+    z_crit: f64,
+) -> Vec<PredRow> {
+    raw.into_iter()
+        .map(|(c, r, p, pse)| {
+            let m = &curves[c].rows[r];
+            let se = pse.hypot(m.variance_se);
+            let z = if se > 0.0 { (p - m.variance) / se } else { 0.0 };
+            let rel = p / m.variance - 1.0;
+            let resolves = z_crit * se / m.variance <= PREDICTION_REL;
+            PredRow {
+                curve: c,
+                row: r,
+                n: m.row.n,
+                predicted: p,
+                predicted_se: pse,
+                measured: m.variance,
+                measured_se: m.variance_se,
+                rel,
+                z,
+                resolves,
+                agrees: z.abs() <= z_crit && (!resolves || rel.abs() <= PREDICTION_REL),
+            }
+        })
+        .collect::<Vec<PredRow>>()
+}
+
+/// The timing cells, which come last: the SIMD rows and the NUFFT sweep.
+fn timing_cells(cells: &[Cell]) -> Result<(Vec<SimdRow>, Vec<NufftRow>)> {
+    let mut simd = Vec::new();
+    let mut nufft = Vec::new();
+    for cell in cells {
+        match cell {
+            Cell::Simd(s) => simd.push(s.clone()),
+            Cell::Nufft(v) => nufft.extend(v.iter().cloned()),
+            _ => return Err(LabError::Internal("a timing cell out of place".into())),
+        }
+    }
+    Ok((simd, nufft))
+}
+
+/// The rows of every table, table by table in report order.
+fn rate_rows(cfg_curves: &[Curve], curves: &[CurveResult]) -> Vec<RateRow> {
+    let mut rates = Vec::new();
+    for table in [
+        Table::Rates,
+        Table::Segments,
+        Table::Directions,
+        Table::Offsets,
+        Table::Edge,
+    ] {
+        for (ci, c) in cfg_curves.iter().enumerate() {
+            if c.tables.contains(&table) {
+                rates.extend(curve_rates(table, ci, c, &curves[ci]));
+            }
+        }
+    }
+    rates
 }
 
 /// Inverse-variance weighted mean of the relative differences
@@ -655,93 +695,8 @@ fn overtakes(curves: &[Curve], costs: &[CostRow], tte: &[TimeToError]) -> Vec<Ov
             })
             .max_by_key(|x| x.0);
         let cost_ratio = common.map_or(f64::NAN, |(_, sp, sl)| sl / sp);
-        let range = |ci: usize| {
-            costs
-                .iter()
-                .filter(|c| c.curve == ci)
-                .fold((f64::INFINITY, 0.0f64), |(l, h), c| {
-                    (l.min(c.seconds), h.max(c.seconds))
-                })
-        };
-        let (lo, hi) = {
-            let (a, b) = range(pi);
-            let (c, d) = range(li);
-            (a.max(c), b.min(d))
-        };
-        // Fitted error of lines over points at time t.
-        let ratio_at = |t: f64| ((tl.a - tp.a) + (tl.b - tp.b) * t.ln()).exp();
-        // Where the fitted power laws cross (if their exponents differ).
-        let cross = (tl.b != tp.b)
-            .then(|| ((tl.a - tp.a) / (tp.b - tl.b)).exp())
-            .filter(|t| t.is_finite() && *t > 0.0);
-        let mid = (lo * hi).sqrt();
-        let (crossover, summary) = if (tl.b - tp.b).abs() < SAME_RATE {
-            (
-                None,
-                format!(
-                    "same rate in time (b = {:.2} vs {:.2}); at equal time lines give {:.2}x the \
-                     error of points",
-                    tl.b,
-                    tp.b,
-                    ratio_at(mid)
-                ),
-            )
-        } else if tl.b < tp.b {
-            let t = cross.unwrap_or(f64::NAN);
-            let text = if t <= lo {
-                format!(
-                    "lines give the lower error at every common time measured ({} to {} per \
-                     estimate), {} {:.1}x a point",
-                    secs(lo),
-                    secs(hi),
-                    if cost_ratio >= 1.0 {
-                        "though a line costs"
-                    } else {
-                        "and a line costs only"
-                    },
-                    cost_ratio
-                )
-            } else if t <= hi {
-                format!(
-                    "lines overtake points at {} per estimate (a line costs {:.1}x a point)",
-                    secs(t),
-                    cost_ratio
-                )
-            } else if t <= 1e3 * hi {
-                format!(
-                    "lines would overtake points at about {} per estimate (extrapolated beyond \
-                     the measured {})",
-                    secs(t),
-                    secs(hi)
-                )
-            } else {
-                format!(
-                    "lines fall slightly faster (b = {:.2} vs {:.2}) but would overtake points only \
-                     far beyond the measured times; at {} they give {:.2}x the error of points",
-                    tl.b,
-                    tp.b,
-                    secs(hi),
-                    ratio_at(hi)
-                )
-            };
-            (Some(t).filter(|t| t.is_finite()), text)
-        } else {
-            let text = match cross {
-                Some(t) if t > lo => format!(
-                    "lines give the lower error up to {} per estimate; beyond it points do (their \
-                     error falls faster with time: b = {:.2} vs {:.2})",
-                    secs(t.min(hi)),
-                    tp.b,
-                    tl.b
-                ),
-                _ => format!(
-                    "lines do not overtake points: their error falls more slowly with time \
-                     (b = {:.2} vs {:.2})",
-                    tl.b, tp.b
-                ),
-            };
-            (None, text)
-        };
+        let (lo, hi) = common_time_range(costs, pi, li);
+        let (crossover, summary) = overtake_verdict(tp, tl, lo, hi, cost_ratio);
         out.push(Overtake {
             points: pi,
             lines: li,
@@ -751,6 +706,109 @@ fn overtakes(curves: &[Curve], costs: &[CostRow], tte: &[TimeToError]) -> Vec<Ov
         });
     }
     out
+}
+
+/// The time span (seconds per estimate) that the costs of curves `pi` and
+/// `li` both cover.
+fn common_time_range(costs: &[CostRow], pi: usize, li: usize) -> (f64, f64) {
+    let range = |ci: usize| {
+        costs
+            .iter()
+            .filter(|c| c.curve == ci)
+            .fold((f64::INFINITY, 0.0f64), |(l, h), c| {
+                (l.min(c.seconds), h.max(c.seconds))
+            })
+    };
+    let (a, b) = range(pi);
+    let (c, d) = range(li);
+    (a.max(c), b.min(d))
+}
+
+/// Where the fitted error-against-time law of lines (`tl`) overtakes that of
+/// points (`tp`), given the common measured times `lo..hi` and the cost
+/// ratio of a line to a point: the crossover time (if lines overtake within
+/// reach) and the verdict in words.
+fn overtake_verdict(
+    tp: &TimeToError,
+    tl: &TimeToError,
+    lo: f64,
+    hi: f64,
+    cost_ratio: f64,
+) -> (Option<f64>, String) {
+    // Fitted error of lines over points at time t.
+    let ratio_at = |t: f64| ((tl.a - tp.a) + (tl.b - tp.b) * t.ln()).exp();
+    // Where the fitted power laws cross (if their exponents differ).
+    let cross = (tl.b != tp.b)
+        .then(|| ((tl.a - tp.a) / (tp.b - tl.b)).exp())
+        .filter(|t| t.is_finite() && *t > 0.0);
+    let mid = (lo * hi).sqrt();
+    if (tl.b - tp.b).abs() < SAME_RATE {
+        (
+            None,
+            format!(
+                "same rate in time (b = {:.2} vs {:.2}); at equal time lines give {:.2}x the \
+                 error of points",
+                tl.b,
+                tp.b,
+                ratio_at(mid)
+            ),
+        )
+    } else if tl.b < tp.b {
+        let t = cross.unwrap_or(f64::NAN);
+        let text = if t <= lo {
+            format!(
+                "lines give the lower error at every common time measured ({} to {} per \
+                 estimate), {} {:.1}x a point",
+                secs(lo),
+                secs(hi),
+                if cost_ratio >= 1.0 {
+                    "though a line costs"
+                } else {
+                    "and a line costs only"
+                },
+                cost_ratio
+            )
+        } else if t <= hi {
+            format!(
+                "lines overtake points at {} per estimate (a line costs {:.1}x a point)",
+                secs(t),
+                cost_ratio
+            )
+        } else if t <= 1e3 * hi {
+            format!(
+                "lines would overtake points at about {} per estimate (extrapolated beyond \
+                 the measured {})",
+                secs(t),
+                secs(hi)
+            )
+        } else {
+            format!(
+                "lines fall slightly faster (b = {:.2} vs {:.2}) but would overtake points only \
+                 far beyond the measured times; at {} they give {:.2}x the error of points",
+                tl.b,
+                tp.b,
+                secs(hi),
+                ratio_at(hi)
+            )
+        };
+        (Some(t).filter(|t| t.is_finite()), text)
+    } else {
+        let text = match cross {
+            Some(t) if t > lo => format!(
+                "lines give the lower error up to {} per estimate; beyond it points do (their \
+                 error falls faster with time: b = {:.2} vs {:.2})",
+                secs(t.min(hi)),
+                tp.b,
+                tl.b
+            ),
+            _ => format!(
+                "lines do not overtake points: their error falls more slowly with time \
+                 (b = {:.2} vs {:.2})",
+                tl.b, tp.b
+            ),
+        };
+        (None, text)
+    }
 }
 
 /// `1.2 µs`, `3.4 ms`, `5.6 s`.

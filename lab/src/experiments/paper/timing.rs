@@ -31,6 +31,7 @@ use crate::integrand::{IntegrandSpec, Params};
 use crate::io::buffer::{empty, filled};
 use crate::spec::Primitive;
 use crate::with_dims;
+use crate::{LabError, Result};
 
 /// Minimum duration of one timed repeat.
 pub const MIN_REPEAT: Duration = Duration::from_millis(2);
@@ -119,13 +120,13 @@ pub struct NufftRow {
 /// Median seconds per call of `f` (method in the [module docs](self)): one
 /// warm-up call, calibration of the calls per repeat to last at least
 /// [`MIN_REPEAT`], then `repeats` timed repeats.
-fn time_per_call(repeats: usize, mut f: impl FnMut() -> Result<(), String>) -> Result<f64, String> {
+fn time_per_call(repeats: usize, mut f: impl FnMut() -> Result<()>) -> Result<f64> {
     let mut repeat = |calls: u64| {
         let t = Instant::now();
         for _ in 0..calls {
             f()?;
         }
-        Ok::<_, String>(t.elapsed().as_secs_f64())
+        Ok::<_, LabError>(t.elapsed().as_secs_f64())
     };
     repeat(1)?;
     let mut calls = 1u64;
@@ -164,21 +165,25 @@ fn uniform(g: &mut Pcg32) -> f64 {
 }
 
 /// A uniform random unit direction (rejection from the cube `[−1, 1]^D`).
-fn random_direction<const D: usize>(g: &mut Pcg32) -> Result<Direction<D>, String> {
+fn random_direction<const D: usize>(g: &mut Pcg32) -> Result<Direction<D>> {
     for _ in 0..1000 {
         let v: [f64; D] = core::array::from_fn(|_| 2.0 * uniform(g) - 1.0);
         let r2: f64 = v.iter().map(|x| x * x).sum();
         if (1e-6..=1.0).contains(&r2) {
-            return Direction::new(v).map_err(|e| format!("internal error: direction: {e}"));
+            return Direction::new(v).map_err(|e| LabError::Internal(format!("direction: {e}")));
         }
     }
-    Err("internal error: no random direction in 1000 draws".into())
+    Err(LabError::Internal(
+        "no random direction in 1000 draws".into(),
+    ))
 }
 
 /// Checks `name ≥ 1`.
-fn at_least_one(name: &str, v: usize) -> Result<(), String> {
+fn at_least_one(name: &str, v: usize) -> Result<()> {
     if v == 0 {
-        Err(format!("{name} must be at least 1, got 0"))
+        Err(LabError::Message(format!(
+            "{name} must be at least 1, got 0"
+        )))
     } else {
         Ok(())
     }
@@ -204,25 +209,27 @@ pub fn simd_case(
     evaluations: usize,
     repeats: usize,
     seed: u64,
-) -> Result<SimdRow, String> {
+) -> Result<SimdRow> {
     if primitive == Primitive::Points {
-        return Err(
+        return Err(LabError::Usage(
             "primitive points: the f32 SIMD paths integrate along rays; use segments or lines"
                 .into(),
-        );
+        ));
     }
     at_least_one("evaluations", evaluations)?;
     at_least_one("repeats", repeats)?;
     if !(2..=3).contains(&spec.dims) {
-        return Err(format!(
+        return Err(LabError::Message(format!(
             "dims {}: the SIMD timing supports 2 or 3 dimensions",
             spec.dims
-        ));
+        )));
     }
     if let Params::Edge { normal, .. } = &spec.params {
         if normal.len() != spec.dims {
             let (got, d) = (normal.len(), spec.dims);
-            return Err(format!("--normal: {got} components for dims {d}"));
+            return Err(LabError::Usage(format!(
+                "--normal: {got} components for dims {d}"
+            )));
         }
     }
     with_dims!(domain spec.dims, simd_dim(spec, primitive, evaluations, repeats, seed))
@@ -235,13 +242,13 @@ fn simd_dim<const D: usize, const E: usize>(
     rays: usize,
     repeats: usize,
     seed: u64,
-) -> Result<SimdRow, String> {
+) -> Result<SimdRow> {
     let integrand = spec.build::<D>()?;
     let f: &dyn Integrand<D> = &*integrand;
     let mut g = Seed::new(seed).pcg(0x5449_4d45); // "TIME"
     let lines = primitive == Primitive::Lines;
     let len = if lines { 1.0 } else { SEGMENT_LENGTH };
-    let axis = Direction::axis(D - 1).map_err(|e| format!("internal error: {e}"))?;
+    let axis = Direction::axis(D - 1).map_err(|e| LabError::Internal(e.to_string()))?;
     let mut origin = empty::<[f64; D]>(rays, "ray origins")?;
     let mut dir = empty::<Direction<D>>(rays, "ray directions")?;
     for _ in 0..rays {
@@ -304,7 +311,7 @@ fn simd_dim<const D: usize, const E: usize>(
     };
     let run_simd = || {
         f.segment_free_batch_f32(black_box(&batch), &mut simd)
-            .map_err(|e| format!("internal error: SIMD batch: {e}"))?;
+            .map_err(|e| LabError::Internal(format!("SIMD batch: {e}")))?;
         black_box(&mut simd[..]);
         Ok(())
     };
@@ -321,9 +328,9 @@ fn simd_dim<const D: usize, const E: usize>(
         ] {
             if !f64::is_finite(v) {
                 let (kind, prim) = (spec.kind.name(), primitive.name());
-                return Err(format!(
+                return Err(LabError::Message(format!(
                     "{kind} {prim}: the {path} path gave {v} on ray {i}"
-                ));
+                )));
             }
         }
     }
@@ -367,16 +374,18 @@ pub fn nufft_sweep(
     tols: &[f64],
     repeats: usize,
     seed: u64,
-) -> Result<Vec<NufftRow>, String> {
+) -> Result<Vec<NufftRow>> {
     if !(1..=3).contains(&dims) {
-        return Err(format!(
+        return Err(LabError::Message(format!(
             "dims {dims}: the NUFFT sweep supports 1, 2 or 3 dimensions"
-        ));
+        )));
     }
     at_least_one("n", n)?;
     at_least_one("repeats", repeats)?;
     if let Some(t) = tols.iter().find(|t| !(t.is_finite() && **t > 0.0)) {
-        return Err(format!("tol {t}: must be a finite number > 0"));
+        return Err(LabError::Message(format!(
+            "tol {t}: must be a finite number > 0"
+        )));
     }
     with_dims!(dims, dims, nufft_dim(n, k, tols, repeats, seed))
 }
@@ -388,13 +397,13 @@ fn nufft_dim<const D: usize, const E: usize>(
     tols: &[f64],
     repeats: usize,
     seed: u64,
-) -> Result<Vec<NufftRow>, String> {
+) -> Result<Vec<NufftRow>> {
     let grid = Grid::<D>::new(k).map_err(|e| format!("k {k}: {e}"))?;
     let pattern = Random::<D>::new(n).map_err(|e| format!("n {n}: {e}"))?;
     let mut p32 = filled(n, [0.0f32; D], "points")?;
     pattern
         .fill(Seed::new(seed), &mut p32)
-        .map_err(|e| format!("internal error: points: {e}"))?;
+        .map_err(|e| LabError::Internal(format!("points: {e}")))?;
     let mut points = empty::<[f64; D]>(n, "points (f64)")?;
     points.extend(p32.iter().map(|p| p.map(f64::from)));
     drop(p32);
@@ -402,7 +411,7 @@ fn nufft_dim<const D: usize, const E: usize>(
     let scratch_len = DFT_CHUNK * Dft::<D, Vec<f64>>::points_scratch_per_sample(grid);
     let mut scratch = filled(scratch_len, 0.0, "DFT scratch")?;
     let buf = filled(Dft::<D, Vec<f64>>::buffer_len(grid), 0.0, "DFT amplitudes")?;
-    let mut dft = Dft::new(grid, buf).map_err(|e| format!("internal error: {e}"))?;
+    let mut dft = Dft::new(grid, buf).map_err(|e| LabError::Internal(e.to_string()))?;
     let exact = || {
         dft.clear();
         dft.add_points(black_box(&points[..]), &mut scratch)
@@ -438,14 +447,15 @@ fn nufft_dim<const D: usize, const E: usize>(
         0.0,
         "NUFFT amplitudes",
     )?;
-    let mut amps = Amplitudes::new(grid, buf).map_err(|e| format!("internal error: {e}"))?;
+    let mut amps = Amplitudes::new(grid, buf).map_err(|e| LabError::Internal(e.to_string()))?;
     for &tol in tols {
         let mut plan_times = empty(repeats, "plan timings")?;
         let mut build = || {
             let t = Instant::now();
-            let p = Plan::<D>::new(k, tol).map_err(|e| format!("tol {tol}, k {k}: {e}"))?;
+            let p = Plan::<D>::new(k, tol)
+                .map_err(|e| LabError::Message(format!("tol {tol}, k {k}: {e}")))?;
             plan_times.push(t.elapsed().as_secs_f64());
-            Ok::<_, String>(black_box(p))
+            Ok::<_, LabError>(black_box(p))
         };
         let mut plan = build()?;
         for _ in 1..repeats {
@@ -523,19 +533,29 @@ mod tests {
     #[test]
     fn simd_rejects_bad_input() {
         let disk = ball(IntegrandKind::Disk, 2);
-        let e = simd_case(&disk, Primitive::Points, 16, 1, 1).unwrap_err();
+        let e = simd_case(&disk, Primitive::Points, 16, 1, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("points"), "{e}");
-        let e = simd_case(&disk, Primitive::Lines, 0, 1, 1).unwrap_err();
+        let e = simd_case(&disk, Primitive::Lines, 0, 1, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("evaluations"), "{e}");
-        let e = simd_case(&disk, Primitive::Lines, 16, 0, 1).unwrap_err();
+        let e = simd_case(&disk, Primitive::Lines, 16, 0, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("repeats"), "{e}");
-        let e = simd_case(&ball(IntegrandKind::Ball, 4), Primitive::Lines, 16, 1, 1).unwrap_err();
+        let e = simd_case(&ball(IntegrandKind::Ball, 4), Primitive::Lines, 16, 1, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("dims 4"), "{e}");
         let bad = IntegrandSpec {
             params: Params::Ball { radius: -1.0 },
             ..disk
         };
-        let e = simd_case(&bad, Primitive::Segments, 16, 1, 1).unwrap_err();
+        let e = simd_case(&bad, Primitive::Segments, 16, 1, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--radius"), "{e}");
         let edge = IntegrandSpec {
             kind: IntegrandKind::Edge,
@@ -545,7 +565,9 @@ mod tests {
                 offset: 0.5,
             },
         };
-        let e = simd_case(&edge, Primitive::Lines, 16, 1, 1).unwrap_err();
+        let e = simd_case(&edge, Primitive::Lines, 16, 1, 1)
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("--normal"), "{e}");
     }
 
@@ -576,7 +598,9 @@ mod tests {
     #[test]
     fn nufft_sweep_rejects_bad_input() {
         let err = |dims, n, k, tols: &[f64], repeats| {
-            nufft_sweep(dims, n, k, tols, repeats, 1).unwrap_err()
+            nufft_sweep(dims, n, k, tols, repeats, 1)
+                .unwrap_err()
+                .to_string()
         };
         for (e, want) in [
             (err(4, 10, 4, &[1e-6], 1), "dims 4"),

@@ -20,6 +20,7 @@ use super::{Cell, Paper, KIND};
 use crate::experiments::OutputManifest;
 use crate::io::{self, FileGroup};
 use crate::runner::RunInfo;
+use crate::Result;
 use sections::{
     key_results, section_cost, section_directions, section_edge, section_offsets,
     section_predictions, section_rates, section_segments, section_spectra, verdict_counts,
@@ -120,14 +121,14 @@ pub(super) struct Out<'a> {
 }
 
 impl Out<'_> {
-    pub(super) fn add(&mut self, rel: &str, bytes: &[u8]) -> Result<(), String> {
+    pub(super) fn add(&mut self, rel: &str, bytes: &[u8]) -> Result<()> {
         self.group.add_bytes(self.dir.join(rel), bytes)?;
         self.files.push(rel.to_string());
         Ok(())
     }
 
     /// Stages a CSV table and keeps its notes for the manifest.
-    fn add_table(&mut self, rel: &str, t: &tables::Table) -> Result<(), String> {
+    fn add_table(&mut self, rel: &str, t: &tables::Table) -> Result<()> {
         self.add(rel, &t.bytes)?;
         self.group.note(rel, &t.notes);
         Ok(())
@@ -155,7 +156,7 @@ pub fn complete(
     info: &RunInfo,
     out_dir: &Path,
     quiet: bool,
-) -> Result<Results, String> {
+) -> Result<Results> {
     let cfg = exp.config();
     let res = exp.results(cells)?;
     let mut out = Out {

@@ -12,18 +12,19 @@ use serde::Serialize;
 use super::tables::curves_csv;
 use super::{esc, integrand_name, Out};
 use crate::experiments::convergence::DirSpec;
-use crate::experiments::paper::plan::{Config, Table};
+use crate::experiments::paper::plan::{Config, Prediction, Table};
 use crate::experiments::paper::results::{
     secs, RateRow, Results, Verdict, PREDICTION_ALPHA, PREDICTION_REL, TARGETS,
 };
 use crate::experiments::paper::theory::format_exponent;
-use crate::experiments::paper::{Cell, Paper};
+use crate::experiments::paper::{Cell, Paper, PredCell};
 use crate::figures::image::{self, Color};
 use crate::figures::multi::{self, Labelled, Line, Multi, Series};
 use crate::integrand::{IntegrandKind, IntegrandSpec, Params, DEFAULT_RADIUS, DEFAULT_SIGMA};
 use crate::io::table;
 use crate::sampler::Sampler;
 use crate::spec::Primitive;
+use crate::Result;
 
 /// The samplers of `curves` in order of first appearance (one colour each).
 fn distinct_samplers(cfg: &Config, curves: impl Iterator<Item = usize>) -> Vec<Sampler> {
@@ -247,7 +248,7 @@ pub(super) fn convergence_figure(
     name: &str,
     title: &str,
     curves: &[(usize, String)],
-) -> Result<String, String> {
+) -> Result<String> {
     if curves.is_empty() {
         return Ok(String::new());
     }
@@ -332,7 +333,7 @@ pub(super) fn scatter_figure(
     name: &str,
     title: &str,
     rows: &[&RateRow],
-) -> Result<String, String> {
+) -> Result<String> {
     let samplers = distinct_samplers(cfg, rows.iter().map(|r| r.curve));
     let pts: Vec<Labelled> = rows
         .iter()
@@ -397,11 +398,7 @@ pub(super) fn scatter_figure(
 }
 
 /// Section 1: rate tables per dims × primitive.
-pub(super) fn section_rates(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_rates(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let mut h =
         String::from("<h2 id=\"rates\">1. Rate tables: points and unidirectional lines</h2>\n");
     h.push_str(
@@ -520,11 +517,7 @@ pub(super) fn table_rows(res: &Results, t: Table) -> Vec<&RateRow> {
     res.rates.iter().filter(|r| r.table == t).collect()
 }
 
-pub(super) fn section_segments(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_segments(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Segments);
     if rows.is_empty() {
         return Ok(String::new());
@@ -572,11 +565,7 @@ pub(super) fn section_segments(
     Ok(h)
 }
 
-pub(super) fn section_directions(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_directions(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Directions);
     if rows.is_empty() {
         return Ok(String::new());
@@ -655,11 +644,7 @@ pub(super) fn section_directions(
     Ok(h)
 }
 
-pub(super) fn section_offsets(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_offsets(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Offsets);
     if rows.is_empty() {
         return Ok(String::new());
@@ -730,11 +715,7 @@ pub(super) fn section_offsets(
     Ok(h)
 }
 
-pub(super) fn section_edge(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_edge(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let rows = table_rows(res, Table::Edge);
     if rows.is_empty() {
         return Ok(String::new());
@@ -811,7 +792,7 @@ pub(super) fn spectrum_png(
     lo: f64,
     hi: f64,
     value: impl Fn(i32, i32) -> f64,
-) -> Result<Vec<u8>, String> {
+) -> Result<Vec<u8>> {
     let side = 2 * k + 1;
     let scale = 256usize.div_ceil(side).max(1);
     let ki = k as i32;
@@ -820,14 +801,10 @@ pub(super) fn spectrum_png(
         image::log_gray(value(x, y), lo, hi)
     });
     let w = u32::try_from(side * scale).map_err(|_| "image too large")?;
-    image::png(w, w, Color::Gray, &px)
+    Ok(image::png(w, w, Color::Gray, &px)?)
 }
 
-pub(super) fn section_spectra(
-    out: &mut Out<'_>,
-    exp: &Paper,
-    cells: &[Cell],
-) -> Result<String, String> {
+pub(super) fn section_spectra(out: &mut Out<'_>, exp: &Paper, cells: &[Cell]) -> Result<String> {
     let cfg = exp.config();
     let base = cells.len() - cfg.predictions.len() - cfg.timing.simd.len() - 1;
     let mut h = String::from(
@@ -840,18 +817,47 @@ pub(super) fn section_spectra(
          offsets. The variance is the sum of the sampling spectrum times the integrand's power \
          spectrum |f̂(ν)|² (last row).</p>\n",
     );
-    let mut imgs = String::new();
-    let mut radial2: Vec<Series> = Vec::new();
-    let mut radial1: Vec<Series> = Vec::new();
-    #[derive(Serialize)]
-    struct Row {
-        sampler: &'static str,
-        pattern_dims: usize,
-        n: usize,
-        radius: usize,
-        mean_np: f64,
+    let sp = pattern_spectra(out, cfg, cells, base)?;
+    if !sp.imgs.is_empty() {
+        let _ = writeln!(h, "<div class=\"spectra\">{}</div>", sp.imgs);
     }
-    let mut data: Vec<Row> = Vec::new();
+    integrand_spectra(&mut h, out, cfg)?;
+    radial_figures(&mut h, out, &sp.radial2, &sp.radial1)?;
+    if !sp.data.is_empty() {
+        out.add("figures/spectra.csv", &table::csv(&sp.data)?)?;
+    }
+    Ok(h)
+}
+
+/// A row of `figures/spectra.csv`.
+#[derive(Serialize)]
+struct SpectrumRow {
+    sampler: &'static str,
+    pattern_dims: usize,
+    n: usize,
+    radius: usize,
+    mean_np: f64,
+}
+
+/// The measured spectra of the figure predictions: the 2D images (HTML in
+/// `imgs`, PNGs staged), the radial series and the CSV rows.
+#[derive(Default)]
+struct PatternSpectra {
+    imgs: String,
+    radial2: Vec<Series>,
+    radial1: Vec<Series>,
+    data: Vec<SpectrumRow>,
+}
+
+/// [`PatternSpectra`] of every figure prediction with a stored periodogram
+/// (`base` is the index of the first prediction cell).
+fn pattern_spectra(
+    out: &mut Out<'_>,
+    cfg: &Config,
+    cells: &[Cell],
+    base: usize,
+) -> Result<PatternSpectra> {
+    let mut sp = PatternSpectra::default();
     for (pi, p) in cfg.predictions.iter().enumerate() {
         if !p.figure {
             continue;
@@ -862,82 +868,98 @@ pub(super) fn section_spectra(
         if pc.periodogram.is_empty() {
             continue;
         }
-        let name = p.sampler.name();
         match p.pattern_dims {
-            2 => {
-                let g = Grid::<2>::new(p.k).map_err(|e| e.to_string())?;
-                let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
-                    .map_err(|e| format!("stored periodogram: {e}"))?;
-                let at = |x: i32, y: i32| {
-                    if x == 0 && y == 0 {
-                        1e9
-                    } else {
-                        per.mean([x, y]).unwrap_or(0.0)
-                    }
-                };
-                let lam = cfg.figure_length;
-                let pts = spectrum_png(p.k, -2.0, 1.0, at)?;
-                let seg = spectrum_png(p.k, -2.0, 1.0, |x, y| {
-                    let s = sinc(lam * f64::from(y));
-                    at(x, y) * s * s
-                })?;
-                let f1 = format!("figures/spectrum-{name}-2d-{}.png", p.n);
-                let f2 = format!("figures/spectrum-{name}-2d-{}-segments.png", p.n);
-                out.add(&f1, &pts)?;
-                out.add(&f2, &seg)?;
-                let _ = write!(
-                    imgs,
-                    "<figure class=\"sp\"><img src=\"{f1}\" alt=\"{name} points\"><img src=\"{f2}\" \
-                     alt=\"{name} segments\"><figcaption>{name}, N = {}: points | segments λ = {lam}</figcaption></figure>",
-                    p.n
-                );
-                let mut mean = vec![0.0; p.k + 1];
-                let mut count = vec![0u64; p.k + 1];
-                per.radial_average(&mut mean, &mut count)
-                    .map_err(|e| e.to_string())?;
-                radial2.push(Series {
-                    label: format!("{name} (N = {})", p.n),
-                    points: (1..=p.k).map(|r| (r as f64, mean[r], f64::NAN)).collect(),
-                    joined: true,
-                    ..Series::default()
-                });
-                data.extend((1..=p.k).map(|r| Row {
-                    sampler: name,
-                    pattern_dims: 2,
-                    n: p.n,
-                    radius: r,
-                    mean_np: mean[r],
-                }));
-            }
-            1 => {
-                let g = Grid::<1>::new(p.k).map_err(|e| e.to_string())?;
-                let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
-                    .map_err(|e| format!("stored periodogram: {e}"))?;
-                let kmax = p.k.min(4 * p.n);
-                let pts: Vec<(f64, f64, f64)> = (1..=kmax)
-                    .map(|j| (j as f64, per.mean([j as i32]).unwrap_or(0.0), f64::NAN))
-                    .collect();
-                data.extend(pts.iter().map(|q| Row {
-                    sampler: name,
-                    pattern_dims: 1,
-                    n: p.n,
-                    radius: q.0 as usize,
-                    mean_np: q.1,
-                }));
-                radial1.push(Series {
-                    label: format!("{name} offsets (N = {})", p.n),
-                    points: pts,
-                    joined: true,
-                    ..Series::default()
-                });
-            }
+            2 => spectrum_2d(out, cfg, p, pc, &mut sp)?,
+            1 => offsets_1d(p, pc, &mut sp)?,
             _ => {}
         }
     }
-    if !imgs.is_empty() {
-        let _ = writeln!(h, "<div class=\"spectra\">{imgs}</div>");
-    }
-    // Integrand spectra.
+    Ok(sp)
+}
+
+/// A 2D pattern's spectrum: the images of points and of segments along y,
+/// and its radial mean.
+fn spectrum_2d(
+    out: &mut Out<'_>,
+    cfg: &Config,
+    p: &Prediction,
+    pc: &PredCell,
+    sp: &mut PatternSpectra,
+) -> Result<()> {
+    let name = p.sampler.name();
+    let g = Grid::<2>::new(p.k)?;
+    let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
+        .map_err(|e| format!("stored periodogram: {e}"))?;
+    let at = |x: i32, y: i32| {
+        if x == 0 && y == 0 {
+            1e9
+        } else {
+            per.mean([x, y]).unwrap_or(0.0)
+        }
+    };
+    let lam = cfg.figure_length;
+    let pts = spectrum_png(p.k, -2.0, 1.0, at)?;
+    let seg = spectrum_png(p.k, -2.0, 1.0, |x, y| {
+        let s = sinc(lam * f64::from(y));
+        at(x, y) * s * s
+    })?;
+    let f1 = format!("figures/spectrum-{name}-2d-{}.png", p.n);
+    let f2 = format!("figures/spectrum-{name}-2d-{}-segments.png", p.n);
+    out.add(&f1, &pts)?;
+    out.add(&f2, &seg)?;
+    let _ = write!(
+        sp.imgs,
+        "<figure class=\"sp\"><img src=\"{f1}\" alt=\"{name} points\"><img src=\"{f2}\" \
+         alt=\"{name} segments\"><figcaption>{name}, N = {}: points | segments λ = {lam}</figcaption></figure>",
+        p.n
+    );
+    let mut mean = vec![0.0; p.k + 1];
+    let mut count = vec![0u64; p.k + 1];
+    per.radial_average(&mut mean, &mut count)?;
+    sp.radial2.push(Series {
+        label: format!("{name} (N = {})", p.n),
+        points: (1..=p.k).map(|r| (r as f64, mean[r], f64::NAN)).collect(),
+        joined: true,
+        ..Series::default()
+    });
+    sp.data.extend((1..=p.k).map(|r| SpectrumRow {
+        sampler: name,
+        pattern_dims: 2,
+        n: p.n,
+        radius: r,
+        mean_np: mean[r],
+    }));
+    Ok(())
+}
+
+/// The spectrum of a 1D pattern (the offsets of lines along y).
+fn offsets_1d(p: &Prediction, pc: &PredCell, sp: &mut PatternSpectra) -> Result<()> {
+    let name = p.sampler.name();
+    let g = Grid::<1>::new(p.k)?;
+    let per = Periodogram::from_parts(g, pc.periodogram.clone(), pc.realisations)
+        .map_err(|e| format!("stored periodogram: {e}"))?;
+    let kmax = p.k.min(4 * p.n);
+    let pts: Vec<(f64, f64, f64)> = (1..=kmax)
+        .map(|j| (j as f64, per.mean([j as i32]).unwrap_or(0.0), f64::NAN))
+        .collect();
+    sp.data.extend(pts.iter().map(|q| SpectrumRow {
+        sampler: name,
+        pattern_dims: 1,
+        n: p.n,
+        radius: q.0 as usize,
+        mean_np: q.1,
+    }));
+    sp.radial1.push(Series {
+        label: format!("{name} offsets (N = {})", p.n),
+        points: pts,
+        joined: true,
+        ..Series::default()
+    });
+    Ok(())
+}
+
+/// The integrand power spectra (disk, disk through segments, Gaussian).
+fn integrand_spectra(h: &mut String, out: &mut Out<'_>, cfg: &Config) -> Result<()> {
     let k = 64usize;
     let disk = IntegrandSpec {
         kind: IntegrandKind::Disk,
@@ -989,6 +1011,16 @@ pub(super) fn section_spectra(
         "<p>Integrand power spectra (grey = log10 from −12 to −2; λ = {lam}):</p>\
          <div class=\"spectra\">{ints}</div>"
     );
+    Ok(())
+}
+
+/// The radial-mean figures of 2D points and of 1D offsets, if any.
+fn radial_figures(
+    h: &mut String,
+    out: &mut Out<'_>,
+    radial2: &[Series],
+    radial1: &[Series],
+) -> Result<()> {
     h.push_str("<div class=\"figs\">");
     if !radial2.is_empty() {
         let svg = multi::multi(&Multi {
@@ -996,7 +1028,7 @@ pub(super) fn section_spectra(
             subtitle: "ring r: round(|ν|) = r; white noise = 1",
             x_label: "radius |ν|",
             y_label: "ring mean of ⟨N·P(ν)⟩",
-            series: &radial2,
+            series: radial2,
             log_x: false,
         })?;
         out.add("figures/spectra-radial-2d.svg", svg.as_bytes())?;
@@ -1008,24 +1040,17 @@ pub(super) fn section_spectra(
             subtitle: "the spectrum of lines along y, on the axis ν_y = 0",
             x_label: "frequency ν_x",
             y_label: "⟨N·P(ν)⟩",
-            series: &radial1,
+            series: radial1,
             log_x: false,
         })?;
         out.add("figures/spectra-offsets-1d.svg", svg.as_bytes())?;
         h.push_str("<figure><img src=\"figures/spectra-offsets-1d.svg\" alt=\"1D offsets\"><figcaption>1D line offsets — data: <a href=\"figures/spectra.csv\">spectra.csv</a></figcaption></figure>");
     }
     h.push_str("</div>\n");
-    if !data.is_empty() {
-        out.add("figures/spectra.csv", &table::csv(&data)?)?;
-    }
-    Ok(h)
+    Ok(())
 }
 
-pub(super) fn section_cost(
-    out: &mut Out<'_>,
-    cfg: &Config,
-    res: &Results,
-) -> Result<String, String> {
+pub(super) fn section_cost(out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<String> {
     let mut h = String::from(
         "<h2 id=\"cost\">7. What accuracy costs in time</h2>\n\
          <p>RMSE about the exact integral against the wall time of one estimate on one thread \
@@ -1033,7 +1058,17 @@ pub(super) fn section_cost(
          busy), and against a hardware-independent cost, the closed-form evaluations per \
          estimate (= N). All in <a href=\"cost.csv\">cost.csv</a>.</p>\n",
     );
-    // RMSE vs time figures: per dims × integrand, points and lines of the rate table.
+    cost_figures(&mut h, out, cfg, res)?;
+    time_to_error(&mut h, out, cfg, res)?;
+    overtakes(&mut h, cfg, res);
+    simd_table(&mut h, out, res)?;
+    nufft_sweep(&mut h, out, res)?;
+    Ok(h)
+}
+
+/// RMSE against time, per dimension × integrand: the points and lines of the
+/// rate table.
+fn cost_figures(h: &mut String, out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<()> {
     h.push_str("<div class=\"figs\">");
     for (dims, kinds) in [
         (2usize, [IntegrandKind::Gaussian, IntegrandKind::Disk]),
@@ -1097,7 +1132,12 @@ pub(super) fn section_cost(
         }
     }
     h.push_str("</div>\n");
-    // Time to error.
+    Ok(())
+}
+
+/// The time to reach each target error, from each curve's fitted law (and
+/// `time-to-error.csv`).
+fn time_to_error(h: &mut String, out: &mut Out<'_>, cfg: &Config, res: &Results) -> Result<()> {
     h.push_str(
         "<h3>Time to reach a relative error</h3>\n<p>From the power law \
          <code>rel. RMSE = e^a·t^b</code> fitted (least squares in log-log) to each curve's \
@@ -1161,7 +1201,11 @@ pub(super) fn section_cost(
     }
     h.push_str("</table>\n<p>Data: <a href=\"time-to-error.csv\">time-to-error.csv</a></p>\n");
     out.add("time-to-error.csv", &table::csv(&trows)?)?;
-    // Overtakes.
+    Ok(())
+}
+
+/// Where lines overtake points, if any comparison was made.
+fn overtakes(h: &mut String, cfg: &Config, res: &Results) {
     if !res.overtakes.is_empty() {
         h.push_str(
             "<h3>Where lines overtake points</h3>\n<p>Per integrand and sampler, the fitted \
@@ -1185,7 +1229,10 @@ pub(super) fn section_cost(
         }
         h.push_str("</table>\n");
     }
-    // SIMD.
+}
+
+/// f32 SIMD against the exact f64 closed forms (and `simd.csv`), if timed.
+fn simd_table(h: &mut String, out: &mut Out<'_>, res: &Results) -> Result<()> {
     if !res.simd.is_empty() {
         h.push_str(
             "<h3>f32 SIMD against exact f64 closed forms</h3>\n<p>Median ns per evaluation of the \
@@ -1214,7 +1261,11 @@ pub(super) fn section_cost(
         h.push_str("</table>\n<p>Data: <a href=\"simd.csv\">simd.csv</a></p>\n");
         out.add("simd.csv", &table::csv(&res.simd)?)?;
     }
-    // NUFFT.
+    Ok(())
+}
+
+/// The NUFFT tolerance sweep: its table, figure and `nufft.csv`, if timed.
+fn nufft_sweep(h: &mut String, out: &mut Out<'_>, res: &Results) -> Result<()> {
     if !res.nufft.is_empty() {
         h.push_str(
             "<h3>NUFFT tolerance sweep against the exact transform</h3>\n<p>Amplitudes F(ν) of one \
@@ -1273,7 +1324,7 @@ pub(super) fn section_cost(
         out.add("nufft.csv", &table::csv(&res.nufft)?)?;
         h.push_str("<div class=\"figs\"><figure><img src=\"figures/nufft.svg\" alt=\"NUFFT sweep\"><figcaption>NUFFT sweep — data: <a href=\"nufft.csv\">nufft.csv</a></figcaption></figure></div>\n");
     }
-    Ok(h)
+    Ok(())
 }
 
 pub(super) fn section_predictions(cfg: &Config, res: &Results) -> String {

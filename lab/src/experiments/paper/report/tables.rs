@@ -8,6 +8,7 @@ use crate::experiments::paper::plan::Config;
 use crate::experiments::paper::results::{Results, PREDICTION_ALPHA, PREDICTION_REL};
 use crate::experiments::paper::theory::format_exponent;
 use crate::io::table;
+use crate::Result;
 
 /// A CSV table (header first) and the notes its run's manifest keeps about
 /// it.
@@ -39,7 +40,7 @@ pub(super) struct RateCsv<'a> {
     curve: &'a str,
 }
 
-pub(super) fn rates_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
+pub(super) fn rates_csv(cfg: &Config, res: &Results) -> Result<Table> {
     let rows: Vec<RateCsv<'_>> = res
         .rates
         .iter()
@@ -102,7 +103,7 @@ pub(super) struct PredCsv<'a> {
     agrees: bool,
 }
 
-pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
+pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Table> {
     let rows: Vec<PredCsv<'_>> = res
         .predictions
         .iter()
@@ -154,7 +155,7 @@ pub(super) struct CostCsv<'a> {
     curve: &'a str,
 }
 
-pub(super) fn cost_csv(cfg: &Config, res: &Results) -> Result<Table, String> {
+pub(super) fn cost_csv(cfg: &Config, res: &Results) -> Result<Table> {
     let rows: Vec<CostCsv<'_>> = res
         .costs
         .iter()
@@ -202,7 +203,7 @@ pub(super) struct CurveCsv<'a> {
     predicted_se: String,
 }
 
-pub(super) fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Table, String> {
+pub(super) fn curves_csv(cfg: &Config, res: &Results, which: &[usize]) -> Result<Table> {
     let mut rows = Vec::new();
     for &ci in which {
         let c = &cfg.curves[ci];
