@@ -324,7 +324,9 @@ fn a_failed_cell_is_reported_in_its_row_and_the_others_complete() {
         cell_seconds: vec![0.0; cells.len()],
         merged_from: Vec::new(),
     };
-    let err = complete_pixel(&study, cells, &info, dir.path(), true).unwrap_err();
+    let err = complete_pixel(&study, cells, &info, dir.path(), true)
+        .unwrap_err()
+        .to_string();
     assert!(
         err.contains("1 cell(s) of the pixel study failed")
             && err.contains("points cosine random at N = 16: realisation 5"),

@@ -292,7 +292,7 @@ pub fn main(a: &ConvergenceArgs) -> Result<()> {
     let (config, out) = resolve(a)?;
     let exp = Convergence::new(config)?;
     let opts = a.run.options();
-    Ok(run_to_files(
+    run_to_files(
         &exp,
         &out,
         &opts,
@@ -300,5 +300,5 @@ pub fn main(a: &ConvergenceArgs) -> Result<()> {
             complete(e, &c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }

@@ -39,10 +39,10 @@ pub fn main(a: &GalleryArgs) -> Result<()> {
     };
     let exp = Gallery::new(config);
     let opts = a.run.options();
-    Ok(run_to_files(
+    run_to_files(
         &exp,
         &a.out_dir,
         &opts,
-        Box::new(|e, c, i, o, q| Ok(complete(e, &c, i, o, q)?)),
-    )?)
+        Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)),
+    )
 }

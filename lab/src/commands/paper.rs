@@ -66,7 +66,7 @@ pub fn main(a: &PaperArgs) -> Result<()> {
         )?;
     }
     let exp = Paper::new(config)?;
-    Ok(run_to_files(
+    run_to_files(
         &exp,
         &out,
         &opts,
@@ -74,5 +74,5 @@ pub fn main(a: &PaperArgs) -> Result<()> {
             report::complete(e, &c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }

@@ -72,7 +72,7 @@ pub fn main(a: &SceneArgs) -> Result<()> {
             spectrum_realisations: a.spectrum_realisations,
         };
         let exp = PixelStudy::new(config)?;
-        return Ok(run_to_files(&exp, &out, &opts, Box::new(complete_pixel))?);
+        return run_to_files(&exp, &out, &opts, Box::new(complete_pixel));
     }
     let sampler = a.sampler.unwrap_or(SceneSampler::MultiJittered);
     let max = 4 * a.n;
@@ -105,5 +105,5 @@ pub fn main(a: &SceneArgs) -> Result<()> {
         rows_per_cell: 8,
     };
     let exp = Images::new(config)?;
-    Ok(run_to_files(&exp, &out, &opts, Box::new(complete_images))?)
+    run_to_files(&exp, &out, &opts, Box::new(complete_images))
 }

@@ -19,7 +19,7 @@ pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Resul
     let out = a.out.clone().unwrap_or_else(|| default_out(&a.file));
     let opts = a.run.options();
     let samplers = a.samplers.clone().unwrap_or_else(|| scene.samplers.clone());
-    Ok(run_all(
+    run_all(
         source,
         a.resolution,
         None,
@@ -32,5 +32,5 @@ pub fn main(a: &SceneArgs, source: CausticSource, scene: &CausticScene) -> Resul
         a.run.shift.shift,
         &out,
         &opts,
-    )?)
+    )
 }

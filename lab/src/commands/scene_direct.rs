@@ -36,12 +36,7 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
     };
     if let Some((x, y)) = a.pixel {
         let exp = PixelStudy::new(pixel_config(vec![("P".into(), x, y)]))?;
-        return Ok(run_to_files(
-            &exp,
-            &out.join("pixels"),
-            &opts,
-            Box::new(complete_pixels),
-        )?);
+        return run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels));
     }
     if !a.n.is_power_of_two() || !a.n.trailing_zeros().is_multiple_of(2) {
         return Err(LabError::Usage(format!(
@@ -68,10 +63,5 @@ pub fn main(a: &SceneArgs, source: SceneSource, scene: &Scene, out: &Path) -> Re
         return Ok(());
     };
     let exp = PixelStudy::new(pixel_config(chosen.study_pixels()))?;
-    Ok(run_to_files(
-        &exp,
-        &out.join("pixels"),
-        &opts,
-        Box::new(complete_pixels),
-    )?)
+    run_to_files(&exp, &out.join("pixels"), &opts, Box::new(complete_pixels))
 }

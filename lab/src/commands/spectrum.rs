@@ -263,7 +263,7 @@ pub fn main(a: &SpectrumArgs) -> Result<()> {
     let Resolved { config, files, out } = resolve(a)?;
     let exp = Spectrum::new(config, files)?;
     let opts = a.run.options();
-    Ok(run_to_files(
+    run_to_files(
         &exp,
         &out,
         &opts,
@@ -271,5 +271,5 @@ pub fn main(a: &SpectrumArgs) -> Result<()> {
             complete(e, c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }

@@ -89,7 +89,7 @@ impl Offsets {
     ///
     /// # Errors
     /// A sample count the sampler does not support.
-    pub fn new(spec: &EstimatorSpec, n: usize, shift: bool) -> Result<Self, String> {
+    pub fn new(spec: &EstimatorSpec, n: usize, shift: bool) -> crate::Result<Self> {
         let s = spec.sampler.pattern();
         let one_d = spec.primitive == Primitive::Lines
             && !matches!(
@@ -118,13 +118,15 @@ impl Offsets {
     ///
     /// # Errors
     /// The pattern's error.
-    pub fn fill(&self, seed: Seed, out: &mut Vec<[f32; 2]>) -> Result<(), String> {
+    pub fn fill(&self, seed: Seed, out: &mut Vec<[f32; 2]>) -> crate::Result<()> {
         out.resize(self.n, [0.5, 0.5]);
         if let Some(p) = &self.two {
-            p.fill(seed, out).map_err(|e| e.to_string())
+            p.fill(seed, out)
+                .map_err(|e| crate::LabError::Message(e.to_string()))
         } else if let Some(p) = &self.one {
             let mut one = vec![[0.0f32; 1]; self.n];
-            p.fill(seed, &mut one).map_err(|e| e.to_string())?;
+            p.fill(seed, &mut one)
+                .map_err(|e| crate::LabError::Message(e.to_string()))?;
             for (o, u) in out.iter_mut().zip(&one) {
                 *o = [u[0], 0.5];
             }
@@ -159,7 +161,7 @@ impl World {
     ///
     /// # Errors
     /// A sphere the kernel refuses.
-    pub fn new(mut scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+    pub fn new(mut scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
         scene.camera.width = width;
         scene.camera.height = height;
         let spheres = scene.kernel_spheres()?;
@@ -207,7 +209,7 @@ impl World {
         spec: &EstimatorSpec,
         uv: &[[f32; 2]],
         scratch: &mut [(f64, f64)],
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         if spec.simd && spec.primitive == Primitive::Lines {
             let ao32 = px.ao32.as_ref().ok_or_else(|| {
                 format!("f32 lines: more than {SIMD_SPHERES} spheres can occlude this point")
@@ -220,7 +222,7 @@ impl World {
                     *f = std::f32::consts::PI * p[0];
                 }
                 ao32.line_batch_f32(&phis[..k], &mut out[..k])
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| crate::LabError::Message(e.to_string()))?;
                 sum += out[..k].iter().map(|&x| f64::from(x)).sum::<f64>();
             }
             return Ok(sum / uv.len() as f64);
@@ -253,7 +255,7 @@ impl World {
         u: f64,
         v: f64,
         scratch: &mut [(f64, f64)],
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         ao::sample(
             &self.spheres,
             self.max_distance,
@@ -263,7 +265,7 @@ impl World {
             v,
             scratch,
         )
-        .map_err(|e| format!("shading frame or scratch: {e}"))
+        .map_err(|e| format!("shading frame or scratch: {e}").into())
     }
 
     /// Number of spheres (scratch holds twice as many intervals).

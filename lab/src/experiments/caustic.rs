@@ -107,7 +107,7 @@ impl World {
     ///
     /// # Errors
     /// A parameter the kernel rejects.
-    pub fn new(scene: &CausticScene) -> Result<Self, String> {
+    pub fn new(scene: &CausticScene) -> crate::Result<Self> {
         Ok(if scene.dims == 2 {
             World::Two(scene.kernel::<2>()?)
         } else {
@@ -184,7 +184,7 @@ impl Pattern {
         k: usize,
         n: usize,
         shift: Option<ShiftMode>,
-    ) -> Result<Self, String> {
+    ) -> crate::Result<Self> {
         let s = sampler.pattern();
         let mut spec = PatternSpec::simple(s, k, n);
         if sampler == SceneSampler::Jittered {
@@ -198,7 +198,7 @@ impl Pattern {
             1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),
             2 => Pattern::Two(sampler::build::<2>(&spec, shift).map_err(err)?.pattern),
             3 => Pattern::Three(sampler::build::<3>(&spec, shift).map_err(err)?.pattern),
-            _ => return Err(format!("internal error: a {k}D pattern")),
+            _ => return Err(format!("internal error: a {k}D pattern").into()),
         })
     }
 
@@ -206,7 +206,7 @@ impl Pattern {
     ///
     /// # Errors
     /// The pattern's error.
-    pub fn fill(&self, seed: Seed, n: usize, out: &mut Vec<[f64; 3]>) -> Result<(), String> {
+    pub fn fill(&self, seed: Seed, n: usize, out: &mut Vec<[f64; 3]>) -> crate::Result<()> {
         out.clear();
         let e = |e: linesample::PatternError| e.to_string();
         match self {
@@ -268,7 +268,7 @@ impl Study {
     ///
     /// # Errors
     /// A bad scene or a count a sampler cannot make.
-    pub fn new(config: StudyConfig) -> Result<Self, String> {
+    pub fn new(config: StudyConfig) -> crate::Result<Self> {
         let scene = config.source.caustic()?;
         let world = World::new(&scene)?;
         let dims = scene.dims;
@@ -332,7 +332,7 @@ impl study::StudyEffect for Study {
     type Scratch = Vec<[f64; 3]>;
     const CHUNK: u64 = CHUNK;
 
-    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         // The reference (jittered beams) is never shifted.
         let (est, sampler, shift) = match row {
             None => (Estimator::Beams, SceneSampler::Jittered, None),
@@ -345,7 +345,7 @@ impl study::StudyEffect for Study {
         Ok((est, n, pattern))
     }
 
-    fn scratch(&self) -> Result<Self::Scratch, String> {
+    fn scratch(&self) -> crate::Result<Self::Scratch> {
         Ok(Vec::new())
     }
 
@@ -355,7 +355,7 @@ impl study::StudyEffect for Study {
         (est, n, pattern): &Self::Plan,
         seed: Seed,
         x: &mut Self::Scratch,
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         if x.capacity() < *n {
             *x = buffer::empty(*n, "samples")?;
         }
@@ -378,7 +378,7 @@ impl Experiment for Study {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<StudyCell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<StudyCell> {
         study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
@@ -500,7 +500,7 @@ pub fn complete_study(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let cfg = &exp.config;
     let dims = exp.dims;
     let (reference, stats) = study::analyse(&exp.layout, &cells, 0)?;
@@ -753,7 +753,7 @@ pub fn run_image(
     seed: u64,
     out: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let scene = source.caustic()?;
     let world = World::new(&scene)?;
     let fl = &scene.fluence;
@@ -778,7 +778,7 @@ pub fn run_image(
     let albedo = scene.sigma_s / st;
     const PARTS: usize = 16;
     let per = m.div_ceil(PARTS);
-    let parts: Vec<Result<Vec<f64>, String>> = x
+    let parts: Vec<crate::Result<Vec<f64>>> = x
         .par_chunks(per)
         .map(|chunk| {
             let mut grid = buffer::filled(w * h, 0.0f64, "fluence image")?;
@@ -890,7 +890,7 @@ pub fn run_all(
     shift: Option<ShiftMode>,
     out: &Path,
     opts: &RunOptions,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     if opts.shard.is_none() {
         std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
         run_image(&source, resolution, beams, seed, out, opts.quiet)?;
@@ -912,7 +912,7 @@ pub fn run_all(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> crate::Result<()> {
     let exp = Study::new(config_from(config, KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_study))
 }
@@ -937,7 +937,7 @@ pub fn paper_runs(
     seed: u64,
     dir: &Path,
     opts: &RunOptions,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     use crate::spec::Mode;
     let (res, beams, ns, r): (u32, u64, Vec<usize>, u64) = match mode {
         Mode::Reduced => (128, 1 << 14, vec![16, 64, 256], 40),

@@ -494,7 +494,7 @@ impl Experiment for Convergence {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<Cell> {
         let row = self.config.rows[index];
         Ok(with_dims!(domain self.config.dims(), run_row(self, &row, ctx))?)
     }
@@ -815,14 +815,14 @@ pub fn complete(
 /// As [`crate::runner::merge`].
 pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Convergence::new(config_from(config, KIND)?)?;
-    Ok(merge_to_files(
+    merge_to_files(
         &exp,
         a,
         Box::new(|e, c, i, o, q| {
             complete(e, &c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }
 
 #[cfg(test)]

@@ -169,7 +169,7 @@ impl DlWorld {
     ///
     /// # Errors
     /// Not a direct-light scene, or geometry the kernel refuses.
-    pub fn new(mut scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+    pub fn new(mut scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
         if scene.effect != Effect::DirectLight {
             return Err("not a direct-light scene".into());
         }
@@ -331,18 +331,22 @@ impl DlWorld {
         vals: &[[f32; 2]],
         rng: &mut linesample::Pcg32,
         scratch: &mut Vec<(f64, f64)>,
-    ) -> Result<f64, String> {
-        let dl =
-            DirectLight::new(&self.light, px.x, px.n, &px.shadows).map_err(|e| e.to_string())?;
+    ) -> crate::Result<f64> {
+        let dl = DirectLight::new(&self.light, px.x, px.n, &px.shadows)
+            .map_err(|e| crate::LabError::Message(e.to_string()))?;
         scratch.resize(dl.scratch_len(), (0.0, 0.0));
         let n = vals.len() as f64;
         let [l1, l2] = self.light.lengths();
-        let line = |phi: f64, o01: f64, scratch: &mut Vec<(f64, f64)>| -> Result<f64, String> {
+        let line = |phi: f64, o01: f64, scratch: &mut Vec<(f64, f64)>| -> crate::Result<f64> {
             let (s, c) = phi.sin_cos();
             let (lo, hi) = self.light.offset_range(c, s);
             let w = hi - lo;
             Ok(match self.light.chord(c, s, lo + w * o01) {
-                Some(ch) => w * dl.line(&ch, scratch).map_err(|e| e.to_string())?,
+                Some(ch) => {
+                    w * dl
+                        .line(&ch, scratch)
+                        .map_err(|e| crate::LabError::Message(e.to_string()))?
+                }
                 None => 0.0,
             })
         };
@@ -371,7 +375,7 @@ impl DlWorld {
                     *o = (lo + w * f64::from(p[0])) as f32;
                 }
                 dl32.line_batch_f32(&c32[..k], &s32[..k], &offs[..k], &mut out[..k])
-                    .map_err(|e| e.to_string())?;
+                    .map_err(|e| crate::LabError::Message(e.to_string()))?;
                 sum += out[..k].iter().map(|&v| f64::from(v)).sum::<f64>();
             }
             return Ok(w * sum / n);
@@ -420,9 +424,9 @@ impl DlWorld {
     ///
     /// # Errors
     /// A receiver the kernel refuses.
-    pub fn hidden_fraction(&self, px: &DlPixel, lines: usize) -> Result<f64, String> {
-        let dl =
-            DirectLight::new(&self.light, px.x, px.n, &px.shadows).map_err(|e| e.to_string())?;
+    pub fn hidden_fraction(&self, px: &DlPixel, lines: usize) -> crate::Result<f64> {
+        let dl = DirectLight::new(&self.light, px.x, px.n, &px.shadows)
+            .map_err(|e| crate::LabError::Message(e.to_string()))?;
         let mut scratch = vec![(0.0, 0.0); dl.scratch_len()];
         let [l1, l2] = self.light.lengths();
         let mut hidden = 0.0;
@@ -431,7 +435,9 @@ impl DlWorld {
             let Some(ch) = self.light.chord(1.0, 0.0, o) else {
                 continue;
             };
-            let m = dl.shadowed(&ch, &mut scratch).map_err(|e| e.to_string())?;
+            let m = dl
+                .shadowed(&ch, &mut scratch)
+                .map_err(|e| crate::LabError::Message(e.to_string()))?;
             let mut end = f64::NEG_INFINITY;
             for &(lo, hi) in &scratch[..m] {
                 let lo = lo.max(end);
@@ -566,7 +572,7 @@ impl Pattern {
     ///
     /// # Errors
     /// A sample count the sampler does not support.
-    pub fn new(est: &DlEstimator, n: usize, shift: Option<ShiftMode>) -> Result<Self, String> {
+    pub fn new(est: &DlEstimator, n: usize, shift: Option<ShiftMode>) -> crate::Result<Self> {
         let s = est.sampler.pattern();
         let shift = scene_shift(est.sampler, shift);
         let err = |e: String| format!("{} with N = {n}: {e}", est.label());
@@ -599,13 +605,15 @@ impl Pattern {
         seed: Seed,
         out: &mut Vec<[f32; 2]>,
         one: &mut Vec<[f32; 1]>,
-    ) -> Result<(), String> {
+    ) -> crate::Result<()> {
         out.resize(self.n, [0.5, 0.5]);
         if let Some(p) = &self.two {
-            p.fill(seed, out).map_err(|e| e.to_string())
+            p.fill(seed, out)
+                .map_err(|e| crate::LabError::Message(e.to_string()))
         } else if let Some(p) = &self.one {
             one.resize(self.n, [0.0]);
-            p.fill(seed, one).map_err(|e| e.to_string())?;
+            p.fill(seed, one)
+                .map_err(|e| crate::LabError::Message(e.to_string()))?;
             for (o, u) in out.iter_mut().zip(one.iter()) {
                 *o = [u[0], 0.5];
             }
@@ -644,7 +652,7 @@ fn one_estimate(
     vals: &mut Vec<[f32; 2]>,
     one: &mut Vec<[f32; 1]>,
     scratch: &mut Vec<(f64, f64)>,
-) -> Result<f64, String> {
+) -> crate::Result<f64> {
     pattern.fill(seed, vals, one)?;
     let mut rng = orient_rng(seed);
     world.estimate(px, est, vals, &mut rng, scratch)
@@ -709,7 +717,7 @@ impl images::ImageWorld for DlWorld {
     const KIND: &'static str = KIND;
     const EFFECT: EffectKind = EffectKind::DirectLight;
 
-    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
         DlWorld::new(scene, width, height)
     }
 
@@ -729,7 +737,7 @@ impl images::ImageWorld for DlWorld {
         est: Option<&DlEstimator>,
         n: usize,
         shift: Option<ShiftMode>,
-    ) -> Result<Self::Plan, String> {
+    ) -> crate::Result<Self::Plan> {
         // The reference is never shifted (jittered lines along an edge).
         let (est, shift) = match est {
             None => (REFERENCE, None),
@@ -748,11 +756,11 @@ impl images::ImageWorld for DlWorld {
         (est, pattern): &Self::Plan,
         seed: Seed,
         (vals, one, scratch): &mut Self::Scratch,
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         one_estimate(self, px, est, pattern, seed, vals, one, scratch)
     }
 
-    fn extra(&self, px: &DlPixel) -> Result<Option<f32>, String> {
+    fn extra(&self, px: &DlPixel) -> crate::Result<Option<f32>> {
         Ok(Some(self.hidden_fraction(px, 64)? as f32))
     }
 }
@@ -1073,7 +1081,7 @@ pub fn complete_images(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<Option<Chosen>, String> {
+) -> crate::Result<Option<Chosen>> {
     let cfg = exp.config();
     let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
@@ -1242,7 +1250,7 @@ impl PixelStudy {
     ///
     /// # Errors
     /// A pixel outside the image or one that sees no surface.
-    pub fn new(config: PixelConfig) -> Result<Self, String> {
+    pub fn new(config: PixelConfig) -> crate::Result<Self> {
         let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
         let mut points = Vec::new();
         let mut queries = Vec::new();
@@ -1251,16 +1259,18 @@ impl PixelStudy {
                 return Err(format!(
                     "pixel {label} ({x}, {y}) is outside the {}x{} image",
                     config.width, config.height
-                ));
+                )
+                .into());
             }
             match world.pixel(*x, *y) {
                 Some(Seen::Surface(px)) => points.push(*px),
                 Some(Seen::Light) => {
                     return Err(format!(
                         "pixel {label} ({x}, {y}) sees the light itself: nothing to estimate"
-                    ))
+                    )
+                    .into())
                 }
-                None => return Err(format!("pixel {label} ({x}, {y}) sees no surface")),
+                None => return Err(format!("pixel {label} ({x}, {y}) sees no surface").into()),
             }
             queries.push(study::Query {
                 label: label.clone(),
@@ -1296,7 +1306,7 @@ impl study::StudyEffect for PixelStudy {
     type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
     const CHUNK: u64 = CHUNK;
 
-    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         // The reference (jittered lines along an edge) is never shifted.
         let (est, shift) = match row {
             None => (REFERENCE, None),
@@ -1305,7 +1315,7 @@ impl study::StudyEffect for PixelStudy {
         Ok((est, Pattern::new(&est, n, shift)?))
     }
 
-    fn scratch(&self) -> Result<Self::Scratch, String> {
+    fn scratch(&self) -> crate::Result<Self::Scratch> {
         Ok((Vec::new(), Vec::new(), Vec::new()))
     }
 
@@ -1315,7 +1325,7 @@ impl study::StudyEffect for PixelStudy {
         (est, pattern): &Self::Plan,
         seed: Seed,
         (vals, one, scratch): &mut Self::Scratch,
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         one_estimate(
             &self.world,
             &self.points[query],
@@ -1343,7 +1353,7 @@ impl Experiment for PixelStudy {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<PixelCell> {
         study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
@@ -1391,7 +1401,7 @@ pub fn complete_pixels(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let cfg = &exp.config;
     let layout = &exp.layout;
     let mut group = FileGroup::new();
@@ -1550,7 +1560,7 @@ pub fn run_images(
     shift: Option<ShiftMode>,
     out: &Path,
     opts: &crate::runner::RunOptions,
-) -> Result<Option<Chosen>, String> {
+) -> crate::Result<Option<Chosen>> {
     let config = ImagesConfig {
         source,
         width,
@@ -1584,7 +1594,7 @@ pub fn run_images(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> crate::Result<()> {
     let exp = Images::new(config_from(config, KIND)?)?;
     merge_to_files(
         &exp,
@@ -1597,7 +1607,7 @@ pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> 
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> crate::Result<()> {
     let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_pixels))
 }
@@ -1632,7 +1642,7 @@ pub fn paper_runs(
     seed: u64,
     dir: &Path,
     opts: &crate::runner::RunOptions,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     use crate::spec::Mode;
     let source = SceneSource {
         path: CORNELL_SCENE_NAME.into(),

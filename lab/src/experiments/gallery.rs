@@ -130,7 +130,7 @@ impl Experiment for Gallery {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<Cell> {
         let cfg = &self.config;
         let e = cfg.entries[index];
         let spec = Config::spec(&e);
@@ -156,7 +156,6 @@ impl Experiment for Gallery {
             let exp = spectrum::Spectrum::new(scfg, None).map_err(ctx_err(" spectrum"))?;
             let cells = ctx
                 .map_ordered(exp.cells().len(), |c| exp.run_cell(c, ctx))
-                .map_err(LabError::from)
                 .map_err(ctx_err(" spectrum"))?;
             Some(exp.summary(cells).map_err(ctx_err(" spectrum"))?)
         } else {
@@ -316,11 +315,7 @@ fn reproduce(cfg: &Config) -> String {
 /// As [`crate::runner::merge`].
 pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Gallery::new(config_from(config, KIND)?);
-    Ok(merge_to_files(
-        &exp,
-        a,
-        Box::new(|e, c, i, o, q| Ok(complete(e, &c, i, o, q)?)),
-    )?)
+    merge_to_files(&exp, a, Box::new(|e, c, i, o, q| complete(e, &c, i, o, q)))
 }
 
 #[cfg(test)]

@@ -48,7 +48,7 @@ pub trait ImageWorld: Sized + Sync {
     ///
     /// # Errors
     /// Geometry the kernel refuses.
-    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String>;
+    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self>;
     /// The estimator whose stream `e` draws: itself, or for an `f32` SIMD
     /// row its `f64` twin (their difference is then the rounding alone).
     fn twin(e: Self::Estimator) -> Self::Estimator;
@@ -64,7 +64,7 @@ pub trait ImageWorld: Sized + Sync {
         est: Option<&Self::Estimator>,
         n: usize,
         shift: Option<ShiftMode>,
-    ) -> Result<Self::Plan, String>;
+    ) -> crate::Result<Self::Plan>;
     /// Fresh buffers.
     fn scratch(&self) -> Self::Scratch;
     /// One estimate with `plan` at `px` from realisation `seed`.
@@ -77,13 +77,13 @@ pub trait ImageWorld: Sized + Sync {
         plan: &Self::Plan,
         seed: Seed,
         scratch: &mut Self::Scratch,
-    ) -> Result<f64, String>;
+    ) -> crate::Result<f64>;
     /// A per-pixel quantity of the effect kept beside the images (direct
     /// light: the fraction of the light hidden); `None` when it has none.
     ///
     /// # Errors
     /// The kernel's error.
-    fn extra(&self, px: &Self::Pixel) -> Result<Option<f32>, String> {
+    fn extra(&self, px: &Self::Pixel) -> crate::Result<Option<f32>> {
         let _ = px;
         Ok(None)
     }
@@ -123,7 +123,7 @@ impl<W: ImageWorld> Images<W> {
     ///
     /// # Errors
     /// A scene that no longer parses, or geometry the kernel refuses.
-    pub fn new(config: ImagesConfig<W::Estimator>) -> Result<Self, String> {
+    pub fn new(config: ImagesConfig<W::Estimator>) -> crate::Result<Self> {
         let world = W::new(config.source.scene()?, config.width, config.height)?;
         let cells = row_blocks(config.width, config.height, config.rows_per_cell);
         let twin = stream_rows(&config.estimators, W::twin);
@@ -172,7 +172,7 @@ impl<W: ImageWorld> Experiment for Images<W> {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<ImagesCell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<ImagesCell> {
         run_cell(self, index, ctx)
     }
 }
@@ -197,7 +197,7 @@ impl Grid<'_> {
     ///
     /// # Errors
     /// `n` is not on the ladder.
-    pub fn at_n(&self) -> Result<usize, String> {
+    pub fn at_n(&self) -> crate::Result<usize> {
         self.ladder
             .iter()
             .position(|&n| n == self.n)
@@ -253,7 +253,7 @@ fn run_cell<W: ImageWorld>(
     exp: &Images<W>,
     index: usize,
     ctx: &Ctx<'_>,
-) -> Result<ImagesCell, String> {
+) -> crate::Result<ImagesCell> {
     let (cfg, world, grid) = (&exp.config, &exp.world, exp.grid());
     let rows = grid.rows_per_cell.max(1);
     let y0 = index as u32 * rows;
@@ -331,7 +331,7 @@ fn run_cell<W: ImageWorld>(
 ///
 /// # Errors
 /// An allocation failure.
-pub fn assemble(cells: Vec<ImagesCell>, total: usize) -> Result<ImagesCell, String> {
+pub fn assemble(cells: Vec<ImagesCell>, total: usize) -> crate::Result<ImagesCell> {
     let mut all = ImagesCell {
         reference: buffer::empty(total, "the reference image")?,
         reference_se: buffer::empty(total, "the reference SE image")?,
@@ -537,9 +537,9 @@ pub fn sheet(w: u32, h: u32, columns: &[Vec<Option<Vec<[u8; 3]>>>]) -> (u32, u32
 ///
 /// # Errors
 /// An encoding error.
-pub fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> Result<Vec<u8>, String> {
+pub fn rgb_png(w: u32, h: u32, px: &[[u8; 3]]) -> crate::Result<Vec<u8>> {
     let flat: Vec<u8> = px.iter().flatten().copied().collect();
-    image::png(w, h, Color::Rgb, &flat)
+    Ok(image::png(w, h, Color::Rgb, &flat)?)
 }
 
 #[cfg(test)]

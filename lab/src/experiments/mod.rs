@@ -26,7 +26,7 @@ use crate::{LabError, Result};
 /// How an experiment turns its finished cells into files: `(experiment,
 /// cells in order, run info, --out, quiet)`.
 pub type Complete<'a, E> =
-    dyn FnOnce(&E, Vec<<E as Experiment>::Cell>, &RunInfo, &Path, bool) -> Result<(), String> + 'a;
+    dyn FnOnce(&E, Vec<<E as Experiment>::Cell>, &RunInfo, &Path, bool) -> crate::Result<()> + 'a;
 
 /// Runs `exp` with its state next to `out`; when every cell is done, lets
 /// `complete` write the outputs, and when a shard is done, says how to merge.
@@ -38,7 +38,7 @@ pub fn run_to_files<E: Experiment>(
     out: &Path,
     opts: &RunOptions,
     complete: Box<Complete<'_, E>>,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     match runner::run(exp, out, opts)? {
         Outcome::Complete(cells, info) => complete(exp, cells, &info, out, opts.quiet),
         Outcome::Shard {
@@ -65,7 +65,7 @@ pub fn merge_to_files<E: Experiment>(
     exp: &E,
     a: &MergeRequest,
     complete: Box<Complete<'_, E>>,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let (cells, info) = runner::merge(exp, &a.out, &a.shards)?;
     complete(exp, cells, &info, &a.out, a.quiet)
 }
@@ -192,10 +192,11 @@ pub fn merge(a: &MergeRequest) -> Result<()> {
 pub fn config_from<C: serde::de::DeserializeOwned>(
     v: serde_json::Value,
     kind: &str,
-) -> Result<C, String> {
+) -> crate::Result<C> {
     serde_json::from_value(v).map_err(|e| {
         format!(
             "the shards' manifest does not hold a {kind} configuration this lab version reads: {e}"
         )
+        .into()
     })
 }

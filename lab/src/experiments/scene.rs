@@ -151,7 +151,7 @@ impl images::ImageWorld for World {
     const KIND: &'static str = KIND;
     const EFFECT: scene::EffectKind = scene::EffectKind::AmbientOcclusion;
 
-    fn new(scene: Scene, width: u32, height: u32) -> Result<Self, String> {
+    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
         World::new(scene, width, height)
     }
 
@@ -168,7 +168,7 @@ impl images::ImageWorld for World {
         est: Option<&EstimatorSpec>,
         n: usize,
         shift: Option<ShiftMode>,
-    ) -> Result<Self::Plan, String> {
+    ) -> crate::Result<Self::Plan> {
         let spec = est.copied().unwrap_or(REFERENCE);
         let offsets = Offsets::new(&spec, n, shift != Some(ShiftMode::None))?;
         Ok((spec, offsets))
@@ -184,7 +184,7 @@ impl images::ImageWorld for World {
         (spec, offsets): &Self::Plan,
         seed: linesample::Seed,
         (scratch, uv): &mut Self::Scratch,
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         offsets.fill(seed, uv)?;
         World::estimate(self, px, spec, uv, scratch)
     }
@@ -235,7 +235,7 @@ pub fn complete_images(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let cfg = exp.config();
     let grid = exp.grid();
     let (w, h) = (cfg.width, cfg.height);
@@ -441,14 +441,15 @@ impl PixelStudy {
     /// # Errors
     /// A scene that no longer parses, a pixel outside the image or one whose
     /// camera ray misses the scene.
-    pub fn new(config: PixelConfig) -> Result<Self, String> {
+    pub fn new(config: PixelConfig) -> crate::Result<Self> {
         let world = World::new(config.source.scene()?, config.width, config.height)?;
         let (x, y) = config.pixel;
         if x >= config.width || y >= config.height {
             return Err(format!(
                 "--pixel {x},{y}: outside the {}x{} image",
                 config.width, config.height
-            ));
+            )
+            .into());
         }
         let px = world
             .pixel(x, y)
@@ -526,7 +527,7 @@ impl PixelStudy {
         })
     }
 
-    fn spectrum_cell(&self, j: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+    fn spectrum_cell(&self, j: usize, ctx: &Ctx<'_>) -> crate::Result<PixelCell> {
         let job = self.jobs[j];
         let cfg = &self.config;
         let theory = self
@@ -614,13 +615,13 @@ impl study::StudyEffect for PixelStudy {
     type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
     const CHUNK: u64 = CHUNK;
 
-    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String> {
+    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         let spec = row.map_or(REFERENCE, |e| self.config.rows[e]);
         let offsets = Offsets::new(&spec, n, self.config.shift == ShiftMode::Random)?;
         Ok((spec, offsets))
     }
 
-    fn scratch(&self) -> Result<Self::Scratch, String> {
+    fn scratch(&self) -> crate::Result<Self::Scratch> {
         Ok((self.world.scratch(), Vec::new()))
     }
 
@@ -630,7 +631,7 @@ impl study::StudyEffect for PixelStudy {
         (spec, offsets): &Self::Plan,
         seed: linesample::Seed,
         (scratch, uv): &mut Self::Scratch,
-    ) -> Result<f64, String> {
+    ) -> crate::Result<f64> {
         offsets.fill(seed, uv)?;
         self.world.estimate(&self.px, spec, uv, scratch)
     }
@@ -651,7 +652,7 @@ impl Experiment for PixelStudy {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<PixelCell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<PixelCell> {
         if index >= self.layout.len() {
             return self.spectrum_cell(index - self.layout.len(), ctx);
         }
@@ -828,7 +829,7 @@ pub fn complete_pixel(
     info: &RunInfo,
     dir: &Path,
     quiet: bool,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let cfg = &exp.config;
     let measured: Vec<study::StudyCell> = cells[..exp.layout.len()]
         .iter()
@@ -1078,8 +1079,9 @@ fn log_px(v: f64, lo: f64, hi: f64) -> [u8; 3] {
 
 /// A half-grid spectrum of half-width `k` drawn on the full grid `[−k, k]²`
 /// (`j_u` across, `j_v` up), each cell `scale × scale` pixels.
-fn spectrum_png(half: &[f64], k: usize, scale: usize, lo: f64, hi: f64) -> Result<Vec<u8>, String> {
-    let grid = linesample::spectrum::Grid::<2>::new(k).map_err(|e| e.to_string())?;
+fn spectrum_png(half: &[f64], k: usize, scale: usize, lo: f64, hi: f64) -> crate::Result<Vec<u8>> {
+    let grid = linesample::spectrum::Grid::<2>::new(k)
+        .map_err(|e| crate::LabError::Message(e.to_string()))?;
     let side = 2 * k + 1;
     let mut px = vec![[0u8; 3]; side * side * scale * scale];
     let ki = k as i32;
@@ -1101,7 +1103,7 @@ fn spectrum_png(half: &[f64], k: usize, scale: usize, lo: f64, hi: f64) -> Resul
 /// The pixel's integrand `f(u, v)` (and a filtered version) as an image:
 /// `u` (azimuth) across, `θ = +π/2` at the top; 2 × 2 grid cells per pixel,
 /// grey from 0 to the image's maximum.
-fn integrand_png(f: &[f64]) -> Result<Vec<u8>, String> {
+fn integrand_png(f: &[f64]) -> crate::Result<Vec<u8>> {
     use scene_theory::M;
     let side = M / 2;
     let max = f.iter().copied().fold(0.0f64, f64::max).max(1e-300);
@@ -1129,7 +1131,7 @@ fn stage_theory_images(
     cfg: &PixelConfig,
     t: &Theory,
     mj: Option<&Vec<f64>>,
-) -> Result<(), String> {
+) -> crate::Result<()> {
     let sp = &t.spectra;
     group.add_bytes(
         dir.join(format!("{stem}-integrand.png")),
@@ -1142,7 +1144,8 @@ fn stage_theory_images(
         }
     }
     let k = scene_theory::K2;
-    let grid = linesample::spectrum::Grid::<2>::new(k).map_err(|e| e.to_string())?;
+    let grid = linesample::spectrum::Grid::<2>::new(k)
+        .map_err(|e| crate::LabError::Message(e.to_string()))?;
     // |ĝ(j)|² without the half grid's multiplicity.
     let power = |w: Vec<f64>| -> Vec<f64> {
         w.iter()
@@ -1284,7 +1287,7 @@ pub(crate) fn image_estimators(
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge(a: &MergeRequest, config: serde_json::Value) -> crate::Result<()> {
     let exp = Images::new(config_from(config, KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_images))
 }
@@ -1293,7 +1296,7 @@ pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> 
 ///
 /// # Errors
 /// As [`crate::runner::merge`].
-pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> Result<(), String> {
+pub fn merge_pixel(a: &MergeRequest, config: serde_json::Value) -> crate::Result<()> {
     let exp = PixelStudy::new(config_from(config, PIXEL_KIND)?)?;
     merge_to_files(&exp, a, Box::new(complete_pixel))
 }
@@ -1325,7 +1328,7 @@ pub fn paper_runs(
     seed: u64,
     dir: &Path,
     opts: &crate::runner::RunOptions,
-) -> Result<u32, String> {
+) -> crate::Result<u32> {
     use crate::spec::Mode;
     let source = SceneSource {
         path: AO_SCENE_NAME.into(),

@@ -87,7 +87,7 @@ impl PixelSpectra {
     ///
     /// # Errors
     /// An allocation failure, a degenerate frame or a NUFFT error.
-    pub fn new(world: &World, px: &Pixel) -> Result<Self, String> {
+    pub fn new(world: &World, px: &Pixel) -> crate::Result<Self> {
         let mut f = buffer::filled(M * M, 0.0f64, "the pixel's integrand grid")?;
         let point = EstimatorSpec {
             primitive: Primitive::Points,
@@ -255,7 +255,7 @@ pub fn mean_periodogram(
     n: usize,
     realisations: std::ops::Range<u64>,
     seed: Seed,
-) -> Result<Vec<f64>, String> {
+) -> crate::Result<Vec<f64>> {
     let offsets = Offsets::new(spec, n, true)?;
     if spec.primitive == Primitive::Lines {
         mean_np::<1>(&offsets, K1, realisations, seed, |q| [f64::from(q[0])])
@@ -274,7 +274,7 @@ fn mean_np<const D: usize>(
     realisations: std::ops::Range<u64>,
     seed: Seed,
     point: impl Fn(&[f32; 2]) -> [f64; D],
-) -> Result<Vec<f64>, String> {
+) -> crate::Result<Vec<f64>> {
     let count = (realisations.end - realisations.start).max(1) as f64;
     let mut plan = Plan::<D>::new(k, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
     let len = plan.half_len();

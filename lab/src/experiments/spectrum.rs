@@ -674,7 +674,7 @@ impl Experiment for Spectrum {
         &self.cells
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<Cell> {
         Ok(with_dims!(
             self.config.dims,
             self.config.grid_dims(),
@@ -1078,14 +1078,14 @@ fn reproduce(cfg: &Config) -> String {
 /// As [`crate::runner::merge`].
 pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Spectrum::new(config_from(config, KIND)?, None)?;
-    Ok(merge_to_files(
+    merge_to_files(
         &exp,
         a,
         Box::new(|e, c, i, o, q| {
             complete(e, c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }
 
 #[cfg(test)]

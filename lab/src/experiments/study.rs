@@ -42,13 +42,13 @@ pub trait StudyEffect: Sync {
     ///
     /// # Errors
     /// A count the row's sampler cannot make.
-    fn plan(&self, row: Option<usize>, n: usize) -> Result<Self::Plan, String>;
+    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan>;
 
     /// Fresh buffers for one task.
     ///
     /// # Errors
     /// An allocation failure.
-    fn scratch(&self) -> Result<Self::Scratch, String>;
+    fn scratch(&self) -> crate::Result<Self::Scratch>;
 
     /// One estimate at query `query` with `plan` and realisation `seed`.
     ///
@@ -60,7 +60,7 @@ pub trait StudyEffect: Sync {
         plan: &Self::Plan,
         seed: Seed,
         scratch: &mut Self::Scratch,
-    ) -> Result<f64, String>;
+    ) -> crate::Result<f64>;
 }
 
 /// One query of a study: its label and the stream its cells derive from
@@ -203,12 +203,12 @@ impl StudyCell {
     ///
     /// # Errors
     /// A failed cell, or moments that do not decode.
-    pub fn stats(&self) -> Result<RunningStats, String> {
+    pub fn stats(&self) -> crate::Result<RunningStats> {
         if let Some(e) = &self.error {
-            return Err(e.clone());
+            return Err(e.clone().into());
         }
         RunningStats::from_parts(self.count, self.moments)
-            .map_err(|e| format!("a stored cell: {e}"))
+            .map_err(|e| format!("a stored cell: {e}").into())
     }
 }
 
@@ -226,7 +226,7 @@ pub fn run_cell<E: StudyEffect>(
     index: usize,
     run: u64,
     ctx: &Ctx<'_>,
-) -> Result<StudyCell, String> {
+) -> crate::Result<StudyCell> {
     let slot = layout.slot(index);
     let (row, n, total) = match slot.row {
         None => (None, layout.reference_n, layout.reference_realisations),
@@ -243,7 +243,7 @@ pub fn run_cell<E: StudyEffect>(
                 if v.is_finite() {
                     Ok(v)
                 } else {
-                    Err(format!("realisation {r}: the estimate is {v}"))
+                    Err(format!("realisation {r}: the estimate is {v}").into())
                 }
             },
         )
@@ -342,7 +342,7 @@ pub fn analyse(
     layout: &Layout,
     cells: &[StudyCell],
     q: usize,
-) -> Result<(Reference, Vec<RowStat>), String> {
+) -> crate::Result<(Reference, Vec<RowStat>)> {
     let r = cells[q * layout.per_query()].stats()?;
     let reference = Reference {
         value: r.mean(),
@@ -611,7 +611,7 @@ pub fn time_series(label: String, rows: &[RowStat], reference: f64) -> Series {
 ///
 /// # Errors
 /// As described.
-pub fn no_failures(what: &str, failed: &[String], file: &std::path::Path) -> Result<(), String> {
+pub fn no_failures(what: &str, failed: &[String], file: &std::path::Path) -> crate::Result<()> {
     if failed.is_empty() {
         Ok(())
     } else {
@@ -620,7 +620,8 @@ pub fn no_failures(what: &str, failed: &[String], file: &std::path::Path) -> Res
             failed.len(),
             file.display(),
             failed.join("; ")
-        ))
+        )
+        .into())
     }
 }
 

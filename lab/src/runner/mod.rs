@@ -97,7 +97,7 @@ pub trait Experiment: Sync {
     ///
     /// # Errors
     /// A message naming the cell's parameters.
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Self::Cell, String>;
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<Self::Cell>;
 }
 
 /// What a cell may use while it runs.
@@ -120,8 +120,8 @@ impl Ctx<'_> {
     pub fn map_ordered<T: Send>(
         &self,
         count: usize,
-        f: impl Fn(usize) -> Result<T, String> + Sync + Send,
-    ) -> Result<Vec<T>, String> {
+        f: impl Fn(usize) -> crate::Result<T> + Sync + Send,
+    ) -> crate::Result<Vec<T>> {
         (0..count)
             .into_par_iter()
             .map(|i| {
@@ -568,7 +568,7 @@ pub fn compute<E: Experiment>(exp: &E, threads: Option<usize>) -> Result<Vec<E::
         progress: &progress,
     };
     let all: Vec<usize> = (0..exp.cells().len()).collect();
-    pool.install(|| each_cell(exp, &all, |i| Ok(exp.run_cell(i, &ctx)?)))
+    pool.install(|| each_cell(exp, &all, |i| exp.run_cell(i, &ctx)))
 }
 
 /// `f` on every cell of `indices`: the shared cells in parallel (unless `E`
@@ -631,18 +631,24 @@ mod tests {
             &self.cells
         }
 
-        fn run_cell(&self, index: usize, _: &Ctx<'_>) -> Result<usize, String> {
+        fn run_cell(&self, index: usize, _: &Ctx<'_>) -> crate::Result<usize> {
             let others = {
-                let mut r = self.running.lock().map_err(|e| e.to_string())?;
+                let mut r = self
+                    .running
+                    .lock()
+                    .map_err(|e| crate::LabError::Message(e.to_string()))?;
                 *r += 1;
                 *r - 1
             };
             std::thread::sleep(Duration::from_millis(20));
             self.log
                 .lock()
-                .map_err(|e| e.to_string())?
+                .map_err(|e| crate::LabError::Message(e.to_string()))?
                 .push((index, others));
-            *self.running.lock().map_err(|e| e.to_string())? -= 1;
+            *self
+                .running
+                .lock()
+                .map_err(|e| crate::LabError::Message(e.to_string()))? -= 1;
             Ok(index * 10)
         }
     }

@@ -133,7 +133,7 @@ impl SceneSource {
     ///
     /// # Errors
     /// The file cannot be read.
-    pub fn read(path: &Path) -> Result<Self, String> {
+    pub fn read(path: &Path) -> crate::Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(SceneSource {
             path: path.display().to_string(),
@@ -145,16 +145,18 @@ impl SceneSource {
     ///
     /// # Errors
     /// The scene file's error.
-    pub fn scene(&self) -> Result<Scene, String> {
-        parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    pub fn scene(&self) -> crate::Result<Scene> {
+        parse(Path::new(&self.path), &self.text)
+            .map_err(|e| crate::LabError::Message(e.to_string()))
     }
 
     /// The checked volumetric-caustic scene.
     ///
     /// # Errors
     /// The scene file's error.
-    pub fn caustic(&self) -> Result<CausticScene, String> {
-        caustic::parse(Path::new(&self.path), &self.text).map_err(|e| e.to_string())
+    pub fn caustic(&self) -> crate::Result<CausticScene> {
+        caustic::parse(Path::new(&self.path), &self.text)
+            .map_err(|e| crate::LabError::Message(e.to_string()))
     }
 
     /// The checked scene, whatever its effect.
@@ -990,13 +992,13 @@ impl Scene {
     ///
     /// # Errors
     /// A radius outside the kernel's `[1e−100, 1e100]`.
-    pub fn kernel_spheres(&self) -> Result<Vec<linesample::world::Sphere<3>>, String> {
+    pub fn kernel_spheres(&self) -> crate::Result<Vec<linesample::world::Sphere<3>>> {
         self.spheres
             .iter()
             .enumerate()
             .map(|(i, s)| {
                 linesample::world::Sphere::new(s.centre, s.radius)
-                    .map_err(|e| format!("sphere[{i}]: {e}"))
+                    .map_err(|e| format!("sphere[{i}]: {e}").into())
             })
             .collect()
     }
@@ -1050,7 +1052,7 @@ pub fn ao_lines(
     point: [f64; 3],
     normal: [f64; 3],
     phis: &[f64],
-) -> Result<f64, String> {
+) -> crate::Result<f64> {
     let t = linesample_scene::ao::Frame::new(point, normal).tangent;
     let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     let mut sum = 0.0;
@@ -1060,7 +1062,7 @@ pub fn ao_lines(
         let half = std::f64::consts::FRAC_PI_2;
         sum += hp
             .visible(spheres, max_distance, -half, half, &mut scratch)
-            .map_err(|e| e.to_string())?;
+            .map_err(|e| crate::LabError::Message(e.to_string()))?;
     }
     Ok(sum / phis.len() as f64)
 }

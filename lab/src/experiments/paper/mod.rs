@@ -206,11 +206,11 @@ impl Experiment for Paper {
         matches!(self.jobs.get(index), Some(Job::Simd(_) | Job::Nufft))
     }
 
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> Result<Cell, String> {
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<Cell> {
         let cfg = &self.config;
         let label = &self.cells[index].label;
         self.job(index, cfg, ctx)
-            .map_err(|e| format!("paper cell {index} ({label}): {e}"))
+            .map_err(|e| format!("paper cell {index} ({label}): {e}").into())
     }
 }
 
@@ -491,14 +491,14 @@ fn predict<const K: usize>(cfg: &Config, p: &plan::Prediction, ctx: &Ctx<'_>) ->
 /// As [`crate::runner::merge`].
 pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
     let exp = Paper::new(config_from(config, KIND)?)?;
-    Ok(merge_to_files(
+    merge_to_files(
         &exp,
         a,
         Box::new(|e, c, i, o, q| {
             report::complete(e, &c, i, o, q)?;
             Ok(())
         }),
-    )?)
+    )
 }
 
 #[cfg(test)]

@@ -70,7 +70,7 @@ fn expected(
 ///
 /// # Errors
 /// A file that exists but does not parse.
-pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
+pub(super) fn section_direct(out_dir: &Path) -> crate::Result<String> {
     let dir = out_dir.join("direct");
     let mut h = String::new();
     h.push_str("<h2 id=\"direct\">9 A rendering problem: direct light and line orientation</h2>\n");
@@ -130,7 +130,7 @@ pub(super) fn section_direct(out_dir: &Path) -> Result<String, String> {
 ///
 /// # Errors
 /// A file that exists but does not parse.
-fn pixel_studies(h: &mut String, dir: &Path) -> Result<(), String> {
+fn pixel_studies(h: &mut String, dir: &Path) -> crate::Result<()> {
     let chosen: Value = match std::fs::read(dir.join("pixels.json")) {
         Ok(b) => serde_json::from_slice(&b).map_err(|e| format!("pixels.json: {e}"))?,
         Err(_) => Value::Null,

@@ -24,7 +24,7 @@ fn text(v: &Value) -> String {
 ///
 /// # Errors
 /// A scene file that exists but does not parse.
-pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> Result<String, String> {
+pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> crate::Result<String> {
     let dir = out_dir.join("ao");
     let mut h = String::new();
     h.push_str("<h2 id=\"scene\">8 A rendering problem: ambient occlusion</h2>\n");
@@ -128,7 +128,7 @@ pub(super) fn images_table(h: &mut String, rows: &[csv::StringRecord]) {
 ///
 /// # Errors
 /// A study file that exists but does not parse.
-fn pixel_section(h: &mut String, dir: &Path, x: u32, y: u32) -> Result<(), String> {
+fn pixel_section(h: &mut String, dir: &Path, x: u32, y: u32) -> crate::Result<()> {
     let stem = format!("pixel-{x}-{y}");
     let json = dir.join(&stem).join(format!("{stem}.json"));
     let Ok(bytes) = std::fs::read(&json) else {
@@ -305,12 +305,12 @@ const PITFALLS: &str = "<h3>Where theory and measurement part, and the pitfalls<
 ///
 /// # Errors
 /// A file that cannot be read or parsed, naming it.
-pub(super) fn read_csv(path: &Path) -> Result<Vec<csv::StringRecord>, String> {
+pub(super) fn read_csv(path: &Path) -> crate::Result<Vec<csv::StringRecord>> {
     let mut rdr = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .from_path(path)
         .map_err(|e| format!("{}: {e}", path.display()))?;
     rdr.records()
         .collect::<Result<_, _>>()
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|e| format!("{}: {e}", path.display()).into())
 }
