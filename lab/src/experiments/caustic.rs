@@ -48,7 +48,7 @@ use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, O
 use crate::figures::multi::{self, Multi};
 use crate::fit::fit_sci;
 use crate::io::{self, buffer, table, FileGroup};
-use crate::runner::{CellInfo, Ctx, Experiment, RunInfo, RunOptions};
+use crate::runner::{RunInfo, RunOptions};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::CausticScene;
 use crate::scene::{EffectKind, SceneSampler};
@@ -254,21 +254,23 @@ pub struct StudyConfig {
 /// One cell's statistics ([`study::StudyCell`]).
 pub type StudyCell = study::StudyCell;
 
-/// The study experiment.
-pub struct Study {
+/// The study experiment ([`study::Study`] of [`CausticQuery`]).
+pub type Study = study::Study<CausticQuery>;
+
+/// The caustic's side of the study: the kernel scene and its dimension.
+pub struct CausticQuery {
     config: StudyConfig,
     dims: usize,
     world: World,
     layout: study::Layout,
-    cells: Vec<CellInfo>,
 }
 
-impl Study {
+impl CausticQuery {
     /// The experiment of `config`.
     ///
     /// # Errors
     /// A bad scene or a count a sampler cannot make.
-    pub fn new(config: StudyConfig) -> crate::Result<Self> {
+    fn new(config: StudyConfig) -> crate::Result<Self> {
         let scene = config.source.caustic()?;
         let world = World::new(&scene)?;
         let dims = scene.dims;
@@ -303,13 +305,11 @@ impl Study {
             reference_n: config.reference_beams,
             reference_realisations: config.reference_realisations,
         };
-        let cells = layout.cells();
-        Ok(Study {
+        Ok(CausticQuery {
             config,
             dims,
             world,
             layout,
-            cells,
         })
     }
 
@@ -327,10 +327,28 @@ impl Study {
     }
 }
 
-impl study::StudyEffect for Study {
+impl study::StudyEffect for CausticQuery {
+    type Config = StudyConfig;
     type Plan = (Estimator, usize, Pattern);
     type Scratch = Vec<[f64; 3]>;
     const CHUNK: u64 = CHUNK;
+    const KIND: &'static str = KIND;
+
+    fn build(config: StudyConfig) -> crate::Result<Self> {
+        CausticQuery::new(config)
+    }
+
+    fn config(&self) -> &StudyConfig {
+        &self.config
+    }
+
+    fn layout(&self) -> &study::Layout {
+        &self.layout
+    }
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
 
     fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         // The reference (jittered beams) is never shifted.
@@ -361,25 +379,6 @@ impl study::StudyEffect for Study {
         }
         pattern.fill(seed, *n, x)?;
         Ok(self.world.estimate(*est, x))
-    }
-}
-
-impl Experiment for Study {
-    type Config = StudyConfig;
-    type Cell = StudyCell;
-    const KIND: &'static str = KIND;
-    const UNIT: &'static str = "realisations";
-
-    fn config(&self) -> &StudyConfig {
-        &self.config
-    }
-
-    fn cells(&self) -> &[CellInfo] {
-        &self.cells
-    }
-
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<StudyCell> {
-        study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
 

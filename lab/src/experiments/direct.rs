@@ -51,7 +51,7 @@ use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, O
 use crate::figures::multi::{self, Multi};
 use crate::fit::fit_sci;
 use crate::io::{self, table, FileGroup};
-use crate::runner::{CellInfo, Ctx, Experiment, RunInfo};
+use crate::runner::{Experiment, RunInfo};
 use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::SceneSource;
 use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
@@ -1224,33 +1224,24 @@ pub struct PixelConfig {
 /// One cell: a reference or a row's statistics ([`study::StudyCell`]).
 pub type PixelCell = study::StudyCell;
 
-/// The pixel-study experiment.
-pub struct PixelStudy {
+/// The pixel-study experiment ([`study::Study`] of [`DlPixels`]).
+pub type PixelStudy = study::Study<DlPixels>;
+
+/// The direct-light side of the pixel studies: the world and the shading
+/// points of the studied pixels.
+pub struct DlPixels {
     config: PixelConfig,
     world: DlWorld,
     points: Vec<DlPixel>,
     layout: study::Layout,
-    cells: Vec<CellInfo>,
 }
 
-impl PixelStudy {
-    /// The stream of cell `index`: the reference or a row at its pixel.
-    #[must_use]
-    pub fn stream(&self, index: usize) -> Stream {
-        self.layout.stream(index)
-    }
-
-    /// The streams of every cell, in cell order.
-    #[must_use]
-    pub fn streams(&self) -> Vec<Stream> {
-        self.layout.streams()
-    }
-
+impl DlPixels {
     /// The experiment of `config`.
     ///
     /// # Errors
     /// A pixel outside the image or one that sees no surface.
-    pub fn new(config: PixelConfig) -> crate::Result<Self> {
+    fn new(config: PixelConfig) -> crate::Result<Self> {
         let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
         let mut points = Vec::new();
         let mut queries = Vec::new();
@@ -1290,21 +1281,37 @@ impl PixelStudy {
             reference_n: config.reference_lines,
             reference_realisations: config.reference_realisations,
         };
-        let cells = layout.cells();
-        Ok(PixelStudy {
+        Ok(DlPixels {
             config,
             world,
             points,
             layout,
-            cells,
         })
     }
 }
 
-impl study::StudyEffect for PixelStudy {
+impl study::StudyEffect for DlPixels {
+    type Config = PixelConfig;
     type Plan = (DlEstimator, Pattern);
     type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
     const CHUNK: u64 = CHUNK;
+    const KIND: &'static str = PIXEL_KIND;
+
+    fn build(config: PixelConfig) -> crate::Result<Self> {
+        DlPixels::new(config)
+    }
+
+    fn config(&self) -> &PixelConfig {
+        &self.config
+    }
+
+    fn layout(&self) -> &study::Layout {
+        &self.layout
+    }
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
 
     fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         // The reference (jittered lines along an edge) is never shifted.
@@ -1336,25 +1343,6 @@ impl study::StudyEffect for PixelStudy {
             one,
             scratch,
         )
-    }
-}
-
-impl Experiment for PixelStudy {
-    type Config = PixelConfig;
-    type Cell = PixelCell;
-    const KIND: &'static str = PIXEL_KIND;
-    const UNIT: &'static str = "realisations";
-
-    fn config(&self) -> &PixelConfig {
-        &self.config
-    }
-
-    fn cells(&self) -> &[CellInfo] {
-        &self.cells
-    }
-
-    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<PixelCell> {
-        study::run_cell(self, &self.layout, index, self.config.seed, ctx)
     }
 }
 

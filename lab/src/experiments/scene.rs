@@ -611,9 +611,27 @@ impl PixelStudy {
 }
 
 impl study::StudyEffect for PixelStudy {
+    type Config = PixelConfig;
     type Plan = (EstimatorSpec, Offsets);
     type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
     const CHUNK: u64 = CHUNK;
+    const KIND: &'static str = PIXEL_KIND;
+
+    fn build(config: PixelConfig) -> crate::Result<Self> {
+        PixelStudy::new(config)
+    }
+
+    fn config(&self) -> &PixelConfig {
+        &self.config
+    }
+
+    fn layout(&self) -> &study::Layout {
+        &self.layout
+    }
+
+    fn seed(&self) -> u64 {
+        self.config.seed
+    }
 
     fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
         let spec = row.map_or(REFERENCE, |e| self.config.rows[e]);

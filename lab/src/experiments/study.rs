@@ -19,16 +19,19 @@
 
 use linesample::stats::RunningStats;
 use linesample::Seed;
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::figures::multi::{Line, Series};
 use crate::fit::{fit_loglog, n_to_target, Fit};
 use crate::io::table;
-use crate::runner::{CellInfo, Ctx};
+use crate::runner::{CellInfo, Ctx, Experiment};
 use crate::streams::{Part, Realisations, Stream};
 
 /// What a study needs from its effect.
-pub trait StudyEffect: Sync {
+pub trait StudyEffect: Sync + Sized {
+    /// The study's configuration, every parameter resolved.
+    type Config: Serialize + DeserializeOwned + Clone;
     /// A row's pattern at one `N`, ready to fill.
     type Plan: Sync;
     /// Per-task buffers.
@@ -37,6 +40,21 @@ pub trait StudyEffect: Sync {
     /// not depend on the thread count (nor, then, on this constant's
     /// relation to it).
     const CHUNK: u64;
+    /// The experiment's name (its state folder's kind).
+    const KIND: &'static str;
+
+    /// The effect's side of the study of `config`.
+    ///
+    /// # Errors
+    /// A scene that no longer parses, a query the effect cannot estimate
+    /// at, or a count a sampler cannot make.
+    fn build(config: Self::Config) -> crate::Result<Self>;
+    /// The configuration.
+    fn config(&self) -> &Self::Config;
+    /// The cells.
+    fn layout(&self) -> &Layout;
+    /// The run's seed.
+    fn seed(&self) -> u64;
 
     /// The pattern of row `row` at `n` (`None`: the reference's).
     ///
@@ -61,6 +79,70 @@ pub trait StudyEffect: Sync {
         seed: Seed,
         scratch: &mut Self::Scratch,
     ) -> crate::Result<f64>;
+}
+
+/// The convergence study of an effect: the [`Layout`]'s cells, each
+/// measured by [`run_cell`]. It dereferences to the effect.
+pub struct Study<E> {
+    effect: E,
+    cells: Vec<CellInfo>,
+}
+
+impl<E: StudyEffect> Study<E> {
+    /// The study of `config`.
+    ///
+    /// # Errors
+    /// As [`StudyEffect::build`].
+    pub fn new(config: E::Config) -> crate::Result<Self> {
+        let effect = E::build(config)?;
+        let cells = effect.layout().cells();
+        Ok(Study { effect, cells })
+    }
+
+    /// The stream of cell `index`.
+    #[must_use]
+    pub fn stream(&self, index: usize) -> Stream {
+        self.effect.layout().stream(index)
+    }
+
+    /// The streams of every cell, in cell order.
+    #[must_use]
+    pub fn streams(&self) -> Vec<Stream> {
+        self.effect.layout().streams()
+    }
+}
+
+impl<E> std::ops::Deref for Study<E> {
+    type Target = E;
+
+    fn deref(&self) -> &E {
+        &self.effect
+    }
+}
+
+impl<E: StudyEffect> Experiment for Study<E> {
+    type Config = E::Config;
+    type Cell = StudyCell;
+    const KIND: &'static str = E::KIND;
+    const UNIT: &'static str = "realisations";
+
+    fn config(&self) -> &E::Config {
+        self.effect.config()
+    }
+
+    fn cells(&self) -> &[CellInfo] {
+        &self.cells
+    }
+
+    fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<StudyCell> {
+        run_cell(
+            &self.effect,
+            self.effect.layout(),
+            index,
+            self.effect.seed(),
+            ctx,
+        )
+    }
 }
 
 /// One query of a study: its label and the stream its cells derive from
