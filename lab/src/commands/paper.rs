@@ -49,21 +49,11 @@ pub fn main(a: &PaperArgs) -> Result<()> {
     let (config, out) = resolve(a)?;
     let opts = a.run.options();
     if opts.shard.is_none() {
-        // The AO scene section's runs (resumable on their own); a sharded
+        // The scene parts' runs (each resumable on its own); a sharded
         // paper run leaves them out (the report says how to add them).
-        crate::experiments::scene::paper_runs(config.mode, config.seed, &out.join("ao"), &opts)?;
-        crate::experiments::direct::paper_runs(
-            config.mode,
-            config.seed,
-            &out.join("direct"),
-            &opts,
-        )?;
-        crate::experiments::caustic::paper_runs(
-            config.mode,
-            config.seed,
-            &out.join("caustics"),
-            &opts,
-        )?;
+        for part in &crate::experiments::paper::scenes::PARTS {
+            (part.run)(config.mode, config.seed, &out.join(part.dir), &opts)?;
+        }
     }
     let exp = Paper::new(config)?;
     run_to_files(

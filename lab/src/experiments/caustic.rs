@@ -431,8 +431,8 @@ pub fn effective(dims: usize, est: Estimator, sampler: SceneSampler, n: f64) -> 
 }
 
 /// Slack added to a slope's 95 % interval before it is called consistent
-/// with the expectation (as the report's other sections do).
-pub const SLOPE_SLACK: f64 = 0.15;
+/// with the expectation: the one slack of every study's verdict.
+pub use crate::experiments::study::SLOPE_SLACK;
 
 /// Whether the interval `[lo, hi]` (widened by [`SLOPE_SLACK`]) meets the
 /// expected range `[a, b]`.

@@ -15,6 +15,7 @@
 pub mod plan;
 pub mod report;
 pub mod results;
+pub mod scenes;
 pub mod theory;
 pub mod timing;
 

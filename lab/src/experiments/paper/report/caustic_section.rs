@@ -33,7 +33,7 @@ fn parse_sampler(s: &str) -> Option<SceneSampler> {
 ///
 /// # Errors
 /// A file that exists but does not parse.
-pub(super) fn section_caustics(out_dir: &Path) -> crate::Result<String> {
+pub(in crate::experiments::paper) fn section_caustics(out_dir: &Path) -> crate::Result<String> {
     let dir = out_dir.join("caustics");
     let mut h = String::new();
     h.push_str(

@@ -11,9 +11,7 @@ use super::esc;
 use crate::experiments::direct::CORNELL_SCENE_NAME;
 use crate::fit::fit_sci;
 
-/// Tolerance added to a slope's 95 % interval before it is called
-/// consistent with the expectation (as the other sections do).
-const SLOPE_SLACK: f64 = 0.15;
+use crate::experiments::study::SLOPE_SLACK;
 
 /// The expected slope of an estimator (jittered patterns) at a pixel, with
 /// the reason; `None` where no single rate holds over `[n_min, n_max]`.
@@ -70,7 +68,7 @@ fn expected(
 ///
 /// # Errors
 /// A file that exists but does not parse.
-pub(super) fn section_direct(out_dir: &Path) -> crate::Result<String> {
+pub(in crate::experiments::paper) fn section_direct(out_dir: &Path) -> crate::Result<String> {
     let dir = out_dir.join("direct");
     let mut h = String::new();
     h.push_str("<h2 id=\"direct\">9 A rendering problem: direct light and line orientation</h2>\n");

@@ -10,6 +10,10 @@ use std::time::{SystemTime, UNIX_EPOCH};
 mod caustic_section;
 mod direct_section;
 mod scene_section;
+
+pub(super) use caustic_section::section_caustics;
+pub(super) use direct_section::section_direct;
+pub(super) use scene_section::section_scene;
 mod sections;
 mod tables;
 
@@ -179,9 +183,9 @@ pub fn complete(
     body.push_str(&section_spectra(&mut out, exp, cells)?);
     body.push_str(&section_cost(&mut out, cfg, &res)?);
     body.push_str(&section_predictions(cfg, &res));
-    body.push_str(&scene_section::section_scene(out_dir, cfg.mode)?);
-    body.push_str(&direct_section::section_direct(out_dir)?);
-    body.push_str(&caustic_section::section_caustics(out_dir)?);
+    for part in &super::scenes::PARTS {
+        body.push_str(&(part.section)(out_dir, cfg.mode)?);
+    }
 
     let reproduce = format!(
         "linesample-lab paper --mode {} --seed {}",

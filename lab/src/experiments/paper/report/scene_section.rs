@@ -24,7 +24,10 @@ fn text(v: &Value) -> String {
 ///
 /// # Errors
 /// A scene file that exists but does not parse.
-pub(super) fn section_scene(out_dir: &Path, mode: Mode) -> crate::Result<String> {
+pub(in crate::experiments::paper) fn section_scene(
+    out_dir: &Path,
+    mode: Mode,
+) -> crate::Result<String> {
     let dir = out_dir.join("ao");
     let mut h = String::new();
     h.push_str("<h2 id=\"scene\">8 A rendering problem: ambient occlusion</h2>\n");
