@@ -19,9 +19,9 @@ fn main() -> ExitCode {
         Err(e) => {
             linesample_lab::err!("error: {e}");
             // A run stopped by a signal exits as the shell reports a process
-            // killed by it (128 + the signal number). The commands still on
-            // `String` errors flatten `LabError::Stopped` into a message, so
-            // the flag the handler set decides too.
+            // killed by it (128 + the signal number). An error that wraps a
+            // stop in a message (a group of runs such as `paper`) is still
+            // a stop: the flag the handler set decides too.
             match e.signal().or_else(stop::requested) {
                 Some(sig) => ExitCode::from(u8::try_from(128 + sig).unwrap_or(1)),
                 None => ExitCode::FAILURE,
