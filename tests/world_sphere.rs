@@ -726,6 +726,19 @@ fn far_origin_segments_ending_at_the_sphere() {
             -1.154524394534804e35,
             inf,
         ),
+        // From strategy::sphere_ray (CI, a random proptest seed): r = 9.9e46,
+        // the origin 1.6e50 away on a line 8.95 inside the tangent (h =
+        // 1.3e-23 r, h² far below double-double resolution of r²), the
+        // segment from the foot. The double-double Δ gave h = 0.55 and a
+        // clipped length of 1.6e48 (> 2r) from the exactly re-based roots.
+        case(
+            [-0.5463025834195138, 8.952279515971057],
+            9.938075233684843e46,
+            [1.640388387329093e50, 9.938075233684843e46],
+            [1.0, -6.612897825969515e-291],
+            -1.640388387329093e50,
+            inf,
+        ),
     ];
     for (got, want, err, bound) in results {
         assert!(

@@ -451,12 +451,20 @@ pub(crate) fn foot<const D: usize>(q: &[Dd; D], w: &[f64; D], a: Dd, r2: Dd) -> 
         // base point τ (Δ = b_e² − a·c_e does not depend on the base point;
         // fuzz finding: a line 1e-42 inside the tangent of r = 4.8e-4 got
         // h = 3e-127 for 3.2e-23 and then a chord of 1.5e63).
-        // The exact sum is only as good as its condition number: use it when
-        // q itself is near the foot (|q| ≲ 4(|q'| + r)); from a far point the
-        // expansion of |q + τω|² cancels by |q|²/r² and the double-double Δ
-        // of the re-based q' is the better one (fuzz finding: a line through
-        // (2.4e35, 2.4e35, 2.4e35) got Δ = 2²³ from the expansion).
-        if q0n <= 4.0 * (qpn + rf) {
+        // The exact sum is only as good as its condition number: its error
+        // is ≈ γ⁴·Σ|terms| ≈ 2⁻¹⁸⁸|q|² (four-fold precision over ≤ 62 terms),
+        // against ≈ 2⁻¹⁰⁰(|q'|² + r²) for the double-double Δ of the re-based
+        // q' (the rounding of q' itself). The two meet near |q| ≈ 10¹³·(|q'| +
+        // r), so the expansion is used unless the origin is `far` (10¹²),
+        // the same rule by which `chord` re-bases its ends: Δ and the roots at
+        // the ends then come from one computation. From a far point the
+        // expansion cancels by |q|²/r² (fuzz finding: a line through
+        // (2.4e35, 2.4e35, 2.4e35) got Δ = 2²³ from it); from a nearer one
+        // the double-double Δ cannot resolve h² ≪ 2⁻¹⁰⁰r² (proptest finding:
+        // r = 9.9e46, an origin 1.6e50 away on a line 8.95 inside the
+        // tangent got h = 0.55 for 1.3e24, and a clipped chord of 1.6e48
+        // from the roots re-based with the exact c_e).
+        if !far {
             let (be, ce) = rebased_bc(q, w, r2, tau);
             delta = be.mul(be).sub(a.mul(ce));
         }
