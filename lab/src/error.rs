@@ -74,6 +74,8 @@ pub enum LabError {
     Spectrum(#[from] linesample::SpectrumError),
     /// The NUFFT refused its input.
     #[error(transparent)]
+    SceneModel(#[from] linesample_scene::Error),
+    #[error(transparent)]
     Nufft(#[from] linesample_nufft::NufftError),
     /// A buffer the machine cannot hold.
     #[error("{what}: cannot allocate {bytes} bytes ({values} values); lower the size")]

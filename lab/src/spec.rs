@@ -33,69 +33,19 @@ pub fn scene_shift(sampler: SceneSampler, shift: Option<ShiftMode>) -> bool {
     }
 }
 
-/// The sample primitive: `--primitive` of `spectrum` and `convergence`, and
-/// an estimator's primitive in a scene file.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Primitive {
-    /// Points.
-    Points,
-    /// Segments of length --length centred at the points, wrapped on the torus.
-    Segments,
-    /// Lines through (spectrum) or offset by (convergence) the points.
-    Lines,
-}
-
-impl Primitive {
-    /// The name on the command line and in scene files.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Primitive::Points => "points",
-            Primitive::Segments => "segments",
-            Primitive::Lines => "lines",
-        }
-    }
-}
-
-/// The density of the sample centres over the hemisphere (the scene
-/// crate's, with `serde` and `clap::ValueEnum`).
+/// The sample primitive (`--primitive` of `spectrum` and `convergence`,
+/// and an estimator's primitive in a scene file), the density of the sample
+/// centres over the hemisphere, and the sample patterns of a scene's
+/// estimators: the scene crate's vocabulary, with `serde` and
+/// `clap::ValueEnum`.
 pub use linesample_scene::ao::CentrePdf;
+pub use linesample_scene::model::{Primitive, SceneSampler};
 
-/// The sample patterns of a scene's estimators.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
-#[serde(rename_all = "kebab-case")]
-pub enum SceneSampler {
-    /// Independent uniform points.
-    Random,
-    /// Jittered (stratified).
-    Jittered,
-    /// Multi-jittered (Chiu, Shirley & Wang 1994).
-    MultiJittered,
-    /// Correlated multi-jittered (Kensler 2013).
-    Cmj,
-    /// Owen-scrambled Sobol′.
-    Sobol,
-}
-
-impl SceneSampler {
-    /// The name a scene file uses.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            SceneSampler::Random => "random",
-            SceneSampler::Jittered => "jittered",
-            SceneSampler::MultiJittered => "multi-jittered",
-            SceneSampler::Cmj => "cmj",
-            SceneSampler::Sobol => "sobol",
-        }
-    }
-
-    /// The lab's pattern for this sampler.
-    #[must_use]
-    pub fn pattern(self) -> crate::sampler::Sampler {
+impl From<SceneSampler> for crate::sampler::Sampler {
+    /// The lab's pattern for a scene sampler.
+    fn from(s: SceneSampler) -> Self {
         use crate::sampler::Sampler;
-        match self {
+        match s {
             SceneSampler::Random => Sampler::Random,
             SceneSampler::Jittered => Sampler::Jittered,
             SceneSampler::MultiJittered => Sampler::MultiJittered,

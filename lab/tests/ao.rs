@@ -19,7 +19,7 @@ fn frame_at(px: f64, py: f64) -> (Vec<linesample::world::Sphere<3>>, f64, Frame)
     )))
     .unwrap();
     let spheres = s.kernel_spheres().unwrap();
-    let scene::Effect::AmbientOcclusion { max_distance } = s.effect else {
+    let scene::EffectParams::AmbientOcclusion { max_distance } = s.effect else {
         panic!("the AO scene is an ambient-occlusion scene")
     };
     let (o, d) = s.camera.ray(px, py);

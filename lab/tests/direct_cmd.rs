@@ -11,7 +11,8 @@ use std::path::{Path, PathBuf};
 use common::*;
 use linesample::stats::RunningStats;
 use linesample::Seed;
-use linesample_lab::experiments::direct::{self, DlEstimator, DlWorld, Pattern, Seen, REFERENCE};
+use linesample_lab::experiments::direct::{self, DlEstimator, DlWorld, Seen, REFERENCE};
+use linesample_lab::experiments::samples::SamplePattern;
 use linesample_lab::experiments::scene::SceneSource;
 use linesample_lab::scene::{self, Orientation, SceneSampler};
 
@@ -292,7 +293,7 @@ fn every_estimator_is_unbiased() {
             panic!("pixel ({x}, {y}) sees no surface");
         };
         let estimate = |est: &DlEstimator,
-                        pat: &Pattern,
+                        pat: &SamplePattern,
                         seed: Seed,
                         vals: &mut Vec<[f32; 2]>,
                         one: &mut Vec<[f32; 1]>,
@@ -301,7 +302,7 @@ fn every_estimator_is_unbiased() {
             let mut r = seed.pcg(0x0c1e_47a7);
             world.estimate(&px, est, vals, &mut r, scratch).unwrap()
         };
-        let rp = Pattern::new(&REFERENCE, 4096, None).unwrap();
+        let (_, rp) = SamplePattern::of::<DlWorld>(None, 4096, None).unwrap();
         let mut rs = RunningStats::new();
         for r in 0..64 {
             rs.push(estimate(
@@ -315,7 +316,7 @@ fn every_estimator_is_unbiased() {
         }
         let (rv, rse) = (rs.mean(), rs.mean_std_error());
         for (e, est) in ests.iter().enumerate() {
-            let pat = Pattern::new(est, 16, None).unwrap();
+            let (_, pat) = SamplePattern::of::<DlWorld>(Some(est), 16, None).unwrap();
             let mut s = RunningStats::new();
             for r in 0..20_000 {
                 s.push(estimate(
@@ -342,7 +343,7 @@ fn every_estimator_is_unbiased() {
         let f64e = ests[7];
         assert_eq!(f64e.name(), "lines-edge1");
         let f32e = DlEstimator { simd: true, ..f64e };
-        let pat = Pattern::new(&f64e, 16, None).unwrap();
+        let (_, pat) = SamplePattern::of::<DlWorld>(Some(&f64e), 16, None).unwrap();
         for r in 0..50 {
             let seed = Seed::new(13).realization(r);
             let a = estimate(&f64e, &pat, seed, &mut vals, &mut one, &mut scratch);

@@ -1,7 +1,7 @@
 //! Scene files: the shipped AO scene reads back as the paper's scene, and
 //! every kind of mistake gives one error naming the file, line and field.
 
-use linesample_lab::scene::{self, CentrePdf, Effect, Primitive, SceneSampler};
+use linesample_lab::scene::{self, CentrePdf, EffectParams, Primitive, SceneSampler};
 use std::path::Path;
 
 const GOOD: &str = r#"[camera]
@@ -81,7 +81,7 @@ fn the_shipped_ao_scene_is_the_papers() {
     );
     assert_eq!(
         s.effect,
-        Effect::AmbientOcclusion {
+        EffectParams::AmbientOcclusion {
             max_distance: 500.0
         }
     );
@@ -431,7 +431,7 @@ fn fields_the_effect_does_not_use_are_errors() {
     ));
     assert!(matches!(
         scene::parse_any(Path::new(dl_file), &dl).unwrap(),
-        scene::SceneFile::Camera(s) if s.effect == Effect::DirectLight
+        scene::SceneFile::Camera(s) if s.effect == EffectParams::DirectLight
     ));
     let e =
         scene::parse_any(Path::new("c.toml"), &format!("{text}[camera]\nfov = 1.0\n")).unwrap_err();

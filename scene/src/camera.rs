@@ -1,5 +1,7 @@
 //! A pinhole camera with pbrt's conventions: the ray of a raster point.
 
+use crate::vec3::{cross, sub, unit};
+
 /// A pinhole camera (pbrt-v3's `LookAt` and `perspective`): pixel `(0, 0)`
 /// is the top left, and the ray of pixel `(i, j)` goes through its centre
 /// `(i + 0.5, j + 0.5)`.
@@ -18,23 +20,6 @@ pub struct Camera {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn unit(a: [f64; 3]) -> [f64; 3] {
-    let n = libm::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-    [a[0] / n, a[1] / n, a[2] / n]
 }
 
 impl Camera {

@@ -21,11 +21,25 @@
 //!   scored in a query ball (volumetric caustics; Jarosz et al. 2011),
 //!   and [`fluence`], their paths splatted into a fluence image;
 //!
+//! With the `alloc` feature, the scene layer over them:
+//!
+//! * `model`: the checked scene a scene file describes (camera, spheres,
+//!   quads, boxes, one light, the one effect and the estimators to
+//!   compare; the volumetric caustic's own scene), with the vocabulary
+//!   (`Primitive`, `SceneSampler`, `Orientation`) deriving `serde` and
+//!   `clap::ValueEnum` behind the features of those names;
+//! * `Effect`: one trait every camera effect implements (the world built
+//!   from a scene, the shading point of a pixel, one estimate from a row's
+//!   samples and seed), like a pbrt-v4 integrator's `Li()`;
+//!   `ao::world::World` and `direct_light::world::DlWorld` implement it.
+//!
 //! They build on the kernel's shapes ([`linesample::world`]: spheres,
 //! rays, planes, Gaussians), its numeric core and its lane abstraction, so
 //! every `f32` batch is bit for bit its scalar twin, lane by lane, in every
-//! build. Like the kernel, the crate is `#![no_std]`, never allocates and
-//! has no `unsafe` code. Each module states the error bound of its closed
+//! build. Like the kernel, the crate is `#![no_std]` and has no `unsafe`
+//! code; the closed forms never allocate (the scene layer, behind `alloc`,
+//! holds the scene's lists and a pixel's shadows in `Vec`s, built once per
+//! world and per pixel). Each module states the error bound of its closed
 //! forms; the derivations are in `docs/theory.md` of the repository.
 //!
 //! These modules were `linesample::world::{occlusion, occlusion_f32,
@@ -42,6 +56,8 @@
     clippy::needless_range_loop
 )]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 
@@ -50,9 +66,18 @@ pub mod camera;
 pub mod caustic;
 pub mod direct_light;
 pub mod direct_light_f32;
+#[cfg(feature = "alloc")]
+pub mod effect;
+mod error;
 pub mod fluence;
+#[cfg(feature = "alloc")]
+pub mod model;
 pub mod occlusion;
 pub mod occlusion_f32;
+mod vec3;
 
+#[cfg(feature = "alloc")]
+pub use effect::Effect;
+pub use error::Error;
 pub use occlusion::HalfPlane;
 pub use occlusion_f32::AoPoint32;

@@ -3,7 +3,7 @@
 use crate::cli::*;
 use crate::experiments::run_to_files;
 use crate::experiments::scene::*;
-use crate::scene::{Effect, SceneFile, SceneSampler};
+use crate::scene::{EffectParams, SceneFile, SceneSampler};
 use crate::spec::ShiftMode;
 use crate::{LabError, Result};
 use std::path::PathBuf;
@@ -25,7 +25,7 @@ pub fn main(a: &SceneArgs) -> Result<()> {
         }
         SceneFile::Camera(scene) => scene,
     };
-    if scene.effect == Effect::DirectLight {
+    if scene.effect == EffectParams::DirectLight {
         let out = a
             .out
             .clone()

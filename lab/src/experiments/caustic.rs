@@ -185,7 +185,7 @@ impl Pattern {
         n: usize,
         shift: Option<ShiftMode>,
     ) -> crate::Result<Self> {
-        let s = sampler.pattern();
+        let s = crate::sampler::Sampler::from(sampler);
         let mut spec = PatternSpec::simple(s, k, n);
         if sampler == SceneSampler::Jittered {
             spec.strata = Some(strata(n, k).ok_or_else(|| {

@@ -40,23 +40,25 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use linesample::Seed;
-use linesample_scene::direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
-use linesample_scene::direct_light_f32::DirectLight32;
+pub use linesample_scene::direct_light::world::{
+    estimators, image_estimators, orient_rng, DlEstimator, DlPixel, DlWorld, Seen, REFERENCE,
+    SIMD_SHADOWS,
+};
 use serde::{Deserialize, Serialize};
 
 use crate::experiments::images;
 use crate::experiments::images::rgb_png;
+use crate::experiments::samples::{self, SamplePattern};
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Multi};
 use crate::fit::fit_sci;
 use crate::io::{self, table, FileGroup};
 use crate::runner::{Experiment, RunInfo};
-use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::SceneSource;
-use crate::scene::{cross, dot, sub, unit, Effect, EffectKind, Orientation, Scene, SceneSampler};
+use crate::scene::{EffectKind, Orientation, Scene, SceneSampler};
 use crate::spec::MergeRequest;
-use crate::spec::{scene_shift, ShiftMode};
+use crate::spec::ShiftMode;
 use crate::streams::{Part, Stream};
 
 /// The image experiment's name.
@@ -70,635 +72,15 @@ const CHUNK: u64 = 32;
 
 // ---------------------------------------------------------------- world
 
-/// One estimator: points on the light, or lines with an orientation
-/// strategy, and the pattern of its samples.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct DlEstimator {
-    /// `None`: points; `Some(o)`: lines oriented by `o`.
-    pub lines: Option<Orientation>,
-    pub sampler: SceneSampler,
-    /// Lines only: the kernel's `f32` SIMD batch
-    /// ([`linesample_scene::direct_light_f32::DirectLight32`]) instead of
-    /// the `f64` closed form.
-    #[serde(default)]
-    pub simd: bool,
-}
-
-impl DlEstimator {
-    /// `points` or `lines-<orientation>` (the `orientation.csv` name).
-    #[must_use]
-    pub fn name(&self) -> String {
-        match self.lines {
-            None => "points".into(),
-            Some(o) if self.simd => format!("lines-{}-f32", o.name()),
-            Some(o) => format!("lines-{}", o.name()),
-        }
-    }
-
-    /// The name with the sampler.
-    #[must_use]
-    pub fn label(&self) -> String {
-        format!("{} {}", self.name(), self.sampler.name())
-    }
-
-    /// Whether the estimator draws 2D pattern points (points, and lines
-    /// whose direction and offset come from one 2D pattern).
-    fn two_d(&self) -> bool {
-        matches!(self.lines, None | Some(Orientation::Stratified))
-    }
-}
-
-/// A surface of the scene: a parallelogram with a unit normal and albedo,
-/// and the occluder it belongs to (its index in [`DlWorld`]'s occluders).
-#[derive(Clone, Copy, Debug)]
-struct Surface {
-    face: Parallelogram,
-    normal: [f64; 3],
-    albedo: [f64; 3],
-    solid: usize,
-}
-
-/// An occluder: a box (convex: only its faces turned towards a point can
-/// shadow it, and never a point on the box itself) or a free-standing quad
-/// (two-sided: it shadows points on either side). Walls are quads: one
-/// never stands between a point of a convex room and a light on its
-/// boundary, and its shadow then misses the light ([`Shadow::misses`]).
-#[derive(Clone, Debug)]
-struct Occluder {
-    /// The faces, each with its unit outward normal (`None`: two-sided).
-    faces: Vec<(Parallelogram, Option<[f64; 3]>)>,
-}
-
-/// What a pixel sees.
-pub enum Seen {
-    /// The light itself: its radiance.
-    Light,
-    /// A surface point and what it needs for every estimate.
-    Surface(Box<DlPixel>),
-}
-
-/// A pixel's surface point.
-pub struct DlPixel {
-    /// The point.
-    pub x: [f64; 3],
-    /// Its unit shading normal (facing the camera).
-    pub n: [f64; 3],
-    /// Its albedo.
-    pub albedo: [f64; 3],
-    /// The occluder faces' shadows on the light.
-    pub shadows: Vec<Shadow>,
-    /// The `f32` batch's prepared receiver (`None` with more than
-    /// [`SIMD_SHADOWS`] shadows).
-    pub dl32: Option<DirectLight32<SIMD_SHADOWS>>,
-}
-
-/// Shadow capacity of the `f32` batch's prepared receiver.
-pub const SIMD_SHADOWS: usize = 16;
-
-/// The direct-light world of a scene.
-pub struct DlWorld {
-    scene: Scene,
-    light: QuadLight,
-    surfaces: Vec<Surface>,
-    /// The quads, then the boxes, as occluders.
-    occluders: Vec<Occluder>,
-}
-
-impl DlWorld {
-    /// The world of a checked `direct-light` scene at `width × height`.
-    ///
-    /// # Errors
-    /// Not a direct-light scene, or geometry the kernel refuses.
-    pub fn new(mut scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
-        if scene.effect != Effect::DirectLight {
-            return Err("not a direct-light scene".into());
-        }
-        scene.camera.width = width;
-        scene.camera.height = height;
-        let l = scene.light.ok_or("a direct-light scene needs a [light]")?;
-        let light =
-            QuadLight::new(l.corner, l.edge1, l.edge2).map_err(|e| format!("[light]: {e}"))?;
-        let mut surfaces = Vec::new();
-        let mut occluders = Vec::new();
-        for (i, q) in scene.quads.iter().enumerate() {
-            let face = Parallelogram::new(q.corner, q.edge1, q.edge2)
-                .map_err(|e| format!("quad[{i}]: {e}"))?;
-            surfaces.push(Surface {
-                face,
-                normal: unit(face.normal()),
-                albedo: q.albedo,
-                solid: occluders.len(),
-            });
-            occluders.push(Occluder {
-                faces: vec![(face, None)],
-            });
-        }
-        for (i, b) in scene.boxes.iter().enumerate() {
-            let mut faces = Vec::new();
-            for (c, e1, e2) in b.faces() {
-                let face = Parallelogram::new(c, e1, e2).map_err(|e| format!("box[{i}]: {e}"))?;
-                let normal = unit(face.normal());
-                surfaces.push(Surface {
-                    face,
-                    normal,
-                    albedo: b.albedo,
-                    solid: occluders.len(),
-                });
-                faces.push((face, Some(normal)));
-            }
-            occluders.push(Occluder { faces });
-        }
-        Ok(DlWorld {
-            scene,
-            light,
-            surfaces,
-            occluders,
-        })
-    }
-
-    /// The light.
-    #[must_use]
-    pub fn light(&self) -> &QuadLight {
-        &self.light
-    }
-
-    /// The light's radiance.
-    #[must_use]
-    pub fn radiance(&self) -> [f64; 3] {
-        self.scene.light.map_or([0.0; 3], |l| l.radiance)
-    }
-
-    /// What the camera ray through the centre of pixel `(x, y)` sees, or
-    /// `None` (nothing).
-    #[must_use]
-    pub fn pixel(&self, x: u32, y: u32) -> Option<Seen> {
-        let (o, d) = self
-            .scene
-            .camera
-            .ray(f64::from(x) + 0.5, f64::from(y) + 0.5);
-        self.trace(o, d)
-    }
-
-    /// What the ray `o + t d` sees first.
-    #[must_use]
-    pub fn trace(&self, o: [f64; 3], d: [f64; 3]) -> Option<Seen> {
-        let mut best: Option<(f64, usize)> = None;
-        for (i, s) in self.surfaces.iter().enumerate() {
-            if let Some(t) = hit(&s.face, o, d) {
-                if best.is_none_or(|(b, _)| t < b) {
-                    best = Some((t, i));
-                }
-            }
-        }
-        let [u, v] = self.light.axes();
-        let [l1, l2] = self.light.lengths();
-        let light_face = Parallelogram::new(
-            self.light.corner(),
-            [u[0] * l1, u[1] * l1, u[2] * l1],
-            [v[0] * l2, v[1] * l2, v[2] * l2],
-        )
-        .ok()?;
-        if let Some(t) = hit(&light_face, o, d) {
-            if best.is_none_or(|(b, _)| t < b) && dot(d, self.light.normal()) < 0.0 {
-                return Some(Seen::Light);
-            }
-        }
-        let (t, i) = best?;
-        let s = &self.surfaces[i];
-        let x = [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]];
-        let n = if dot(s.normal, d) > 0.0 {
-            [-s.normal[0], -s.normal[1], -s.normal[2]]
-        } else {
-            s.normal
-        };
-        Some(Seen::Surface(Box::new(self.surface_point(
-            x,
-            n,
-            s.albedo,
-            Some(s.solid),
-        ))))
-    }
-
-    /// The shading data of surface point `x` with normal `n` on occluder
-    /// `solid` (which cannot shadow it: a box is convex, and a quad does not
-    /// shadow its own points). The others cast shadows: every quad, and the
-    /// faces of each box that face `x` (a ray entering a convex box crosses
-    /// one of them first). Shadows that miss the light are dropped.
-    #[must_use]
-    pub fn surface_point(
-        &self,
-        x: [f64; 3],
-        n: [f64; 3],
-        albedo: [f64; 3],
-        solid: Option<usize>,
-    ) -> DlPixel {
-        let mut shadows = Vec::new();
-        for (b, occ) in self.occluders.iter().enumerate() {
-            if Some(b) == solid {
-                continue;
-            }
-            for (f, nrm) in &occ.faces {
-                if nrm.is_some_and(|m| dot(sub(x, f.corner()), m) <= 0.0) {
-                    continue;
-                }
-                if let Some(s) = Shadow::project(&self.light, x, f) {
-                    if !s.misses(&self.light) {
-                        shadows.push(s);
-                    }
-                }
-            }
-        }
-        let dl32 = DirectLight32::new(&self.light, x, n, &shadows).ok();
-        DlPixel {
-            x,
-            n,
-            albedo,
-            shadows,
-            dl32,
-        }
-    }
-
-    /// One estimate of `E = ∫ G V dA` at `px` from the pattern values
-    /// `vals` (`[u, v]` for 2D estimators, `[o, ·]` for the others), with
-    /// `rng` for random orientations.
-    ///
-    /// # Errors
-    /// A receiver the kernel refuses.
-    pub fn estimate(
-        &self,
-        px: &DlPixel,
-        est: &DlEstimator,
-        vals: &[[f32; 2]],
-        rng: &mut linesample::Pcg32,
-        scratch: &mut Vec<(f64, f64)>,
-    ) -> crate::Result<f64> {
-        let dl = DirectLight::new(&self.light, px.x, px.n, &px.shadows)
-            .map_err(|e| crate::LabError::Message(e.to_string()))?;
-        scratch.resize(dl.scratch_len(), (0.0, 0.0));
-        let n = vals.len() as f64;
-        let [l1, l2] = self.light.lengths();
-        let line = |phi: f64, o01: f64, scratch: &mut Vec<(f64, f64)>| -> crate::Result<f64> {
-            let (s, c) = phi.sin_cos();
-            let (lo, hi) = self.light.offset_range(c, s);
-            let w = hi - lo;
-            Ok(match self.light.chord(c, s, lo + w * o01) {
-                Some(ch) => {
-                    w * dl
-                        .line(&ch, scratch)
-                        .map_err(|e| crate::LabError::Message(e.to_string()))?
-                }
-                None => 0.0,
-            })
-        };
-        let mut sum = 0.0;
-        if est.simd {
-            let Some(o) = est.lines else {
-                return Err("internal error: f32 points".into());
-            };
-            let dl32 = px.dl32.as_ref().ok_or_else(|| {
-                format!("f32 lines: more than {SIMD_SHADOWS} shadows at this point")
-            })?;
-            let phi = match o {
-                Orientation::Edge1 => 0.0,
-                Orientation::Edge2 => std::f64::consts::FRAC_PI_2,
-                Orientation::Angle(a) => a.to_radians(),
-                _ => return Err("f32 lines: fixed orientations only".into()),
-            };
-            let (sn, cs) = phi.sin_cos();
-            let (lo, hi) = self.light.offset_range(cs, sn);
-            let w = hi - lo;
-            let (c32, s32) = ([cs as f32; 64], [sn as f32; 64]);
-            let (mut offs, mut out) = ([0.0f32; 64], [0.0f32; 64]);
-            for chunk in vals.chunks(64) {
-                let k = chunk.len();
-                for (o, p) in offs.iter_mut().zip(chunk) {
-                    *o = (lo + w * f64::from(p[0])) as f32;
-                }
-                dl32.line_batch_f32(&c32[..k], &s32[..k], &offs[..k], &mut out[..k])
-                    .map_err(|e| crate::LabError::Message(e.to_string()))?;
-                sum += out[..k].iter().map(|&v| f64::from(v)).sum::<f64>();
-            }
-            return Ok(w * sum / n);
-        }
-        match est.lines {
-            None => {
-                for p in vals {
-                    sum += dl.point(f64::from(p[0]) * l1, f64::from(p[1]) * l2);
-                }
-                sum *= self.light.area();
-            }
-            Some(Orientation::Stratified) => {
-                for p in vals {
-                    sum += line(
-                        std::f64::consts::PI * f64::from(p[0]),
-                        f64::from(p[1]),
-                        scratch,
-                    )?;
-                }
-            }
-            Some(Orientation::RandomPerLine) => {
-                for p in vals {
-                    let phi = std::f64::consts::PI * unit_f64(rng.next_u32());
-                    sum += line(phi, f64::from(p[0]), scratch)?;
-                }
-            }
-            Some(o) => {
-                let phi = match o {
-                    Orientation::Edge1 => 0.0,
-                    Orientation::Edge2 => std::f64::consts::FRAC_PI_2,
-                    Orientation::Angle(a) => a.to_radians(),
-                    _ => std::f64::consts::PI * unit_f64(rng.next_u32()),
-                };
-                for p in vals {
-                    sum += line(phi, f64::from(p[0]), scratch)?;
-                }
-            }
-        }
-        Ok(sum / n)
-    }
-
-    /// The fraction of the light's area hidden from `px` (occluders only,
-    /// not the tangent-plane clamp), from the exactly shadowed lengths of
-    /// `lines` lines along the first edge at the midpoints of equal strata of
-    /// offsets: a midpoint rule, exact up to `O(lines⁻²)`.
-    ///
-    /// # Errors
-    /// A receiver the kernel refuses.
-    pub fn hidden_fraction(&self, px: &DlPixel, lines: usize) -> crate::Result<f64> {
-        let dl = DirectLight::new(&self.light, px.x, px.n, &px.shadows)
-            .map_err(|e| crate::LabError::Message(e.to_string()))?;
-        let mut scratch = vec![(0.0, 0.0); dl.scratch_len()];
-        let [l1, l2] = self.light.lengths();
-        let mut hidden = 0.0;
-        for k in 0..lines {
-            let o = l2 * (k as f64 + 0.5) / lines as f64;
-            let Some(ch) = self.light.chord(1.0, 0.0, o) else {
-                continue;
-            };
-            let m = dl
-                .shadowed(&ch, &mut scratch)
-                .map_err(|e| crate::LabError::Message(e.to_string()))?;
-            let mut end = f64::NEG_INFINITY;
-            for &(lo, hi) in &scratch[..m] {
-                let lo = lo.max(end);
-                if hi > lo {
-                    hidden += hi - lo;
-                }
-                end = end.max(hi);
-            }
-        }
-        Ok(hidden / (lines as f64 * l1))
-    }
-
-    /// How close a shadow edge on the light comes to each fixed orientation:
-    /// the smallest angle (radians) between the light's first (second) edge
-    /// and a shadow boundary segment that crosses at least a fifth of the
-    /// light (the shorter side) and is not hidden under another shadow at
-    /// its midpoint, with that segment's length; `(π/2, 0)` without such an
-    /// edge. Lines parallel to a shadow edge see it as a jump of the line
-    /// function; lines crossing it see a kink.
-    #[must_use]
-    pub fn edge_alignment(&self, px: &DlPixel) -> [(f64, f64); 2] {
-        let mut best = [(std::f64::consts::FRAC_PI_2, 0.0); 2];
-        let [l1, l2] = self.light.lengths();
-        let min_len = 0.2 * l1.min(l2);
-        for (si, sh) in px.shadows.iter().enumerate() {
-            let planes = sh.planes();
-            for (pi, p) in planes.iter().enumerate() {
-                let norm = p[0].hypot(p[1]);
-                if norm == 0.0 {
-                    continue;
-                }
-                let d = [-p[1] / norm, p[0] / norm];
-                let p0 = [-p[2] * p[0] / (norm * norm), -p[2] * p[1] / (norm * norm)];
-                let o = -p0[0] * d[1] + p0[1] * d[0];
-                let Some(ch) = self.light.chord(d[0], d[1], o) else {
-                    continue;
-                };
-                let (mut lo, mut hi) = (ch.t0, ch.t1);
-                for (qi, q) in planes.iter().enumerate() {
-                    if qi == pi {
-                        continue;
-                    }
-                    let k = q[0] * d[0] + q[1] * d[1];
-                    let m = q[0] * ch.p0[0] + q[1] * ch.p0[1] + q[2];
-                    if k > 0.0 {
-                        lo = lo.max(-m / k);
-                    } else if k < 0.0 {
-                        hi = hi.min(-m / k);
-                    } else if m < 0.0 {
-                        hi = lo;
-                    }
-                }
-                if hi - lo < min_len {
-                    continue;
-                }
-                let mid = ch.at(0.5 * (lo + hi));
-                let covered = px
-                    .shadows
-                    .iter()
-                    .enumerate()
-                    .any(|(j, o)| j != si && o.contains(mid[0], mid[1]));
-                if covered {
-                    continue;
-                }
-                let phi = d[1].atan2(d[0]).rem_euclid(std::f64::consts::PI);
-                let a1 = phi.min(std::f64::consts::PI - phi);
-                let a2 = (std::f64::consts::FRAC_PI_2 - phi).abs();
-                if a1 < best[0].0 {
-                    best[0] = (a1, hi - lo);
-                }
-                if a2 < best[1].0 {
-                    best[1] = (a2, hi - lo);
-                }
-            }
-        }
-        best
-    }
-
-    /// The radiance factor `ρ/π · L_e` of a surface point (RGB).
-    #[must_use]
-    pub fn tint(&self, px: &DlPixel) -> [f64; 3] {
-        let le = self.radiance();
-        core::array::from_fn(|k| px.albedo[k] / std::f64::consts::PI * le[k])
-    }
-}
-
-/// Ray–parallelogram hit parameter `t > 10⁻⁹`, or `None`.
-fn hit(f: &Parallelogram, o: [f64; 3], d: [f64; 3]) -> Option<f64> {
-    let [e1, e2] = f.edges();
-    let n = f.normal();
-    let den = dot(n, d);
-    if den == 0.0 {
-        return None;
-    }
-    let t = dot(n, sub(f.corner(), o)) / den;
-    if t.partial_cmp(&1e-9) != Some(std::cmp::Ordering::Greater) {
-        return None;
-    }
-    let p = sub(
-        [o[0] + t * d[0], o[1] + t * d[1], o[2] + t * d[2]],
-        f.corner(),
-    );
-    // Dual basis: a = (p × e2)·n / |n|², b = (e1 × p)·n / |n|².
-    let nn = dot(n, n);
-    let a = dot(cross(p, e2), n) / nn;
-    let b = dot(cross(e1, p), n) / nn;
-    ((0.0..=1.0).contains(&a) && (0.0..=1.0).contains(&b)).then_some(t)
-}
-
-/// A `u32` as a uniform number in `[0, 1)`.
-fn unit_f64(u: u32) -> f64 {
-    f64::from(u) * (1.0 / 4_294_967_296.0)
-}
-
-/// The pattern behind an estimator at `N`.
-pub struct Pattern {
-    two: Option<DynPattern<2>>,
-    one: Option<DynPattern<1>>,
-    n: usize,
-}
-
-impl Pattern {
-    /// `est`'s pattern of `n` samples, shifted per realisation as
-    /// [`scene_shift`] says for `shift` (`--shift`). By default patterns
-    /// that are random by construction (random, jittered, multi-jittered,
-    /// CMJ) are used as they are, and Sobol′ (Owen-scrambled per
-    /// realisation as well) gets a random toroidal shift per realisation.
-    /// A shift would move a jittered pattern's strata off the light's edges, and for lines along an edge
-    /// the line function, seen periodically, jumps there (the light's two
-    /// opposite edges carry different line integrals): jittered lines would
-    /// be capped at `N⁻²` (what `--shift random` shows).
-    ///
-    /// # Errors
-    /// A sample count the sampler does not support.
-    pub fn new(est: &DlEstimator, n: usize, shift: Option<ShiftMode>) -> crate::Result<Self> {
-        let s = est.sampler.pattern();
-        let shift = scene_shift(est.sampler, shift);
-        let err = |e: String| format!("{} with N = {n}: {e}", est.label());
-        // Multi-jittered and CMJ exist only in 2D: lines take the u
-        // coordinates, whose projection is stratified into N strata.
-        let only_2d = matches!(est.sampler, SceneSampler::MultiJittered | SceneSampler::Cmj);
-        if est.two_d() || only_2d {
-            let b = sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift).map_err(err)?;
-            Ok(Pattern {
-                two: Some(b.pattern),
-                one: None,
-                n,
-            })
-        } else {
-            let b = sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift).map_err(err)?;
-            Ok(Pattern {
-                two: None,
-                one: Some(b.pattern),
-                n,
-            })
-        }
-    }
-
-    /// Realisation `seed` into `out` (length `N`).
-    ///
-    /// # Errors
-    /// The pattern's error.
-    pub fn fill(
-        &self,
-        seed: Seed,
-        out: &mut Vec<[f32; 2]>,
-        one: &mut Vec<[f32; 1]>,
-    ) -> crate::Result<()> {
-        out.resize(self.n, [0.5, 0.5]);
-        if let Some(p) = &self.two {
-            p.fill(seed, out)
-                .map_err(|e| crate::LabError::Message(e.to_string()))
-        } else if let Some(p) = &self.one {
-            one.resize(self.n, [0.0]);
-            p.fill(seed, one)
-                .map_err(|e| crate::LabError::Message(e.to_string()))?;
-            for (o, u) in out.iter_mut().zip(one.iter()) {
-                *o = [u[0], 0.5];
-            }
-            Ok(())
-        } else {
-            Err("internal error: a pattern without points".into())
-        }
-    }
-}
-
-/// The reference estimator: lines along the light's first edge, 1D-jittered.
-pub const REFERENCE: DlEstimator = DlEstimator {
-    lines: Some(Orientation::Edge1),
-    sampler: SceneSampler::Jittered,
-    simd: false,
-};
-
 /// A stream of the direct-light scene ([`crate::streams`]).
 fn stream(part: Part) -> Stream {
     Stream::new(EffectKind::DirectLight, 3, part)
 }
 
-/// A realisation's random-orientation generator.
-fn orient_rng(seed: Seed) -> linesample::Pcg32 {
-    seed.pcg(0x0c1e_47a7)
-}
-
-/// One estimate: fill the pattern of realisation `seed`, estimate.
-#[allow(clippy::too_many_arguments)]
-fn one_estimate(
-    world: &DlWorld,
-    px: &DlPixel,
-    est: &DlEstimator,
-    pattern: &Pattern,
-    seed: Seed,
-    vals: &mut Vec<[f32; 2]>,
-    one: &mut Vec<[f32; 1]>,
-    scratch: &mut Vec<(f64, f64)>,
-) -> crate::Result<f64> {
-    pattern.fill(seed, vals, one)?;
-    let mut rng = orient_rng(seed);
-    world.estimate(px, est, vals, &mut rng, scratch)
-}
-
-/// The estimators of the images: [`estimators`], and the first fixed
-/// orientation's lines once more through the kernel's `f32` SIMD batch
-/// (what accuracy costs in time).
-#[must_use]
-pub fn image_estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
-    let mut v = estimators(scene, sampler);
-    if let Some(e) = v.iter().find(|e| {
-        matches!(
-            e.lines,
-            Some(Orientation::Edge1 | Orientation::Edge2 | Orientation::Angle(_))
-        )
-    }) {
-        let f32 = DlEstimator { simd: true, ..*e };
-        v.push(f32);
-    }
-    v
-}
-
-/// The estimators of a scene (points, then lines with each orientation), all
-/// with `sampler`.
-#[must_use]
-pub fn estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
-    let mut v = vec![DlEstimator {
-        lines: None,
-        sampler,
-        simd: false,
-    }];
-    for &o in &scene.estimators.orientations {
-        v.push(DlEstimator {
-            lines: Some(o),
-            sampler,
-            simd: false,
-        });
-    }
-    v
-}
-
 // ---------------------------------------------------------------- images
 
 /// The image run, every parameter resolved (`shift`: `--shift`; `None`:
-/// Sobol′ shifted, the others not; [`scene_shift`]).
+/// Sobol′ shifted, the others not; the effect's [`linesample_scene::Effect::shifted`]).
 pub type ImagesConfig = images::ImagesConfig<DlEstimator>;
 
 /// One block of rows ([`images::ImagesCell`]; its `extra` is the fraction
@@ -710,59 +92,8 @@ pub type ImagesCell = images::ImagesCell;
 pub type Images = images::Images<DlWorld>;
 
 impl images::ImageWorld for DlWorld {
-    type Estimator = DlEstimator;
-    type Pixel = DlPixel;
-    type Plan = (DlEstimator, Pattern);
-    type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
-    const KIND: &'static str = KIND;
+    const EXPERIMENT: &'static str = KIND;
     const EFFECT: EffectKind = EffectKind::DirectLight;
-
-    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
-        DlWorld::new(scene, width, height)
-    }
-
-    fn twin(e: DlEstimator) -> DlEstimator {
-        DlEstimator { simd: false, ..e }
-    }
-
-    fn pixel(&self, x: u32, y: u32) -> Option<DlPixel> {
-        match DlWorld::pixel(self, x, y) {
-            Some(Seen::Surface(px)) => Some(*px),
-            _ => None,
-        }
-    }
-
-    fn plan(
-        &self,
-        est: Option<&DlEstimator>,
-        n: usize,
-        shift: Option<ShiftMode>,
-    ) -> crate::Result<Self::Plan> {
-        // The reference is never shifted (jittered lines along an edge).
-        let (est, shift) = match est {
-            None => (REFERENCE, None),
-            Some(e) => (*e, shift),
-        };
-        Ok((est, Pattern::new(&est, n, shift)?))
-    }
-
-    fn scratch(&self) -> Self::Scratch {
-        (Vec::new(), Vec::new(), Vec::new())
-    }
-
-    fn estimate(
-        &self,
-        px: &DlPixel,
-        (est, pattern): &Self::Plan,
-        seed: Seed,
-        (vals, one, scratch): &mut Self::Scratch,
-    ) -> crate::Result<f64> {
-        one_estimate(self, px, est, pattern, seed, vals, one, scratch)
-    }
-
-    fn extra(&self, px: &DlPixel) -> crate::Result<Option<f32>> {
-        Ok(Some(self.hidden_fraction(px, 64)? as f32))
-    }
 }
 
 /// The `N` ladder `1, 4, 16, …` up to `max` (squares and powers of two:
@@ -1217,7 +548,7 @@ pub struct PixelConfig {
     pub estimators: Vec<DlEstimator>,
     pub reference_lines: usize,
     pub reference_realisations: u64,
-    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
+    /// `--shift` (`None`: Sobol′ shifted, the others not; the effect's [`linesample_scene::Effect::shifted`]).
     pub shift: Option<ShiftMode>,
 }
 
@@ -1270,7 +601,7 @@ impl DlPixels {
         }
         for est in &config.estimators {
             for &n in &config.ns {
-                Pattern::new(est, n, config.shift)?;
+                SamplePattern::of::<DlWorld>(Some(est), n, config.shift)?;
             }
         }
         let layout = study::Layout {
@@ -1292,8 +623,8 @@ impl DlPixels {
 
 impl study::StudyEffect for DlPixels {
     type Config = PixelConfig;
-    type Plan = (DlEstimator, Pattern);
-    type Scratch = (Vec<[f32; 2]>, Vec<[f32; 1]>, Vec<(f64, f64)>);
+    type Plan = samples::Plan<DlWorld>;
+    type Scratch = samples::Scratch<DlWorld>;
     const CHUNK: u64 = CHUNK;
     const KIND: &'static str = PIXEL_KIND;
 
@@ -1314,35 +645,22 @@ impl study::StudyEffect for DlPixels {
     }
 
     fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
-        // The reference (jittered lines along an edge) is never shifted.
-        let (est, shift) = match row {
-            None => (REFERENCE, None),
-            Some(e) => (self.config.estimators[e], self.config.shift),
-        };
-        Ok((est, Pattern::new(&est, n, shift)?))
+        let est = row.map(|e| &self.config.estimators[e]);
+        SamplePattern::of::<DlWorld>(est, n, self.config.shift)
     }
 
     fn scratch(&self) -> crate::Result<Self::Scratch> {
-        Ok((Vec::new(), Vec::new(), Vec::new()))
+        Ok(samples::scratch(&self.world))
     }
 
     fn estimate(
         &self,
         query: usize,
-        (est, pattern): &Self::Plan,
+        plan: &Self::Plan,
         seed: Seed,
-        (vals, one, scratch): &mut Self::Scratch,
+        scratch: &mut Self::Scratch,
     ) -> crate::Result<f64> {
-        one_estimate(
-            &self.world,
-            &self.points[query],
-            est,
-            pattern,
-            seed,
-            vals,
-            one,
-            scratch,
-        )
+        samples::estimate(&self.world, &self.points[query], plan, seed, scratch)
     }
 }
 

@@ -4,89 +4,42 @@
 //! equal-samples `N`; then one assembly (images, equal time, `images.csv`
 //! rows, the sheet) whatever the effect.
 //!
-//! An effect says only what is its own ([`ImageWorld`]): its pixels, the
-//! pattern of an estimator at `N`, one estimate, and its colours. Cells
+//! An effect says only what is its own ([`Effect`]): its pixels, the
+//! pattern of an estimator at `N`, one estimate (and the lab its name,
+//! [`ImageWorld`]). Cells
 //! are blocks of rows ([`row_blocks`]). Streams: the reference of pixel
 //! `(x, y)` draws `(effect, dims, image-reference, y·W + x, 0, 0)`,
 //! estimator `e` at `N` draws `(effect, dims, image, y·W + x, twin(e), N)`,
 //! where `twin(e)` is the row of `e`'s `f64` twin (an `f32` SIMD row draws
 //! the numbers of its twin, so their difference is the rounding alone).
 
-use std::fmt::{self, Write as _};
+use std::fmt::Write as _;
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample::Seed;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use crate::figures::image::{self, Color};
 use crate::io::{buffer, table};
+use linesample_scene::Effect;
+
+use super::samples::{self, SamplePattern};
 use crate::runner::{CellInfo, Ctx, Experiment};
-use crate::scene::{EffectKind, Scene, SceneSource};
+use crate::scene::{EffectKind, SceneSource};
 use crate::spec::ShiftMode;
 use crate::streams::{stream_rows, Part, Realisations, Stream};
 
-/// What an image run needs from its effect: its world built from the
-/// scene, its pixels, the pattern of an estimator at `N`, one estimate,
-/// and (optionally) a per-pixel quantity kept beside the images.
-pub trait ImageWorld: Sized + Sync {
-    /// One estimator of the images (with its sampler).
-    type Estimator: Copy + PartialEq + fmt::Debug + Serialize + DeserializeOwned + Send + Sync;
-    /// A shading point.
-    type Pixel;
-    /// An estimator's pattern at one `N`.
-    type Plan;
-    /// Per-cell buffers.
-    type Scratch;
-    /// The experiment's name (its state folder's kind).
-    const KIND: &'static str;
+/// The lab's side of a camera effect: the experiment's name and the
+/// effect's first stream component. Everything else (the world built from
+/// the scene, its pixels, the estimators' patterns, one estimate, the
+/// per-pixel quantity kept beside the images) is the effect's own
+/// ([`Effect`]).
+pub trait ImageWorld: Effect<Estimator: Serialize + DeserializeOwned> {
+    /// The image experiment's name (its state folder's kind).
+    const EXPERIMENT: &'static str;
     /// The effect, the first component of every stream.
     const EFFECT: EffectKind;
-
-    /// The world of `scene` seen at `width × height`.
-    ///
-    /// # Errors
-    /// Geometry the kernel refuses.
-    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self>;
-    /// The estimator whose stream `e` draws: itself, or for an `f32` SIMD
-    /// row its `f64` twin (their difference is then the rounding alone).
-    fn twin(e: Self::Estimator) -> Self::Estimator;
-    /// The shading point of pixel `(x, y)`, if the pixel is estimated.
-    fn pixel(&self, x: u32, y: u32) -> Option<Self::Pixel>;
-    /// The pattern of `est` at `n` (`None`: the reference's) with
-    /// `--shift` `shift`.
-    ///
-    /// # Errors
-    /// A count the sampler cannot make.
-    fn plan(
-        &self,
-        est: Option<&Self::Estimator>,
-        n: usize,
-        shift: Option<ShiftMode>,
-    ) -> crate::Result<Self::Plan>;
-    /// Fresh buffers.
-    fn scratch(&self) -> Self::Scratch;
-    /// One estimate with `plan` at `px` from realisation `seed`.
-    ///
-    /// # Errors
-    /// The kernel's error.
-    fn estimate(
-        &self,
-        px: &Self::Pixel,
-        plan: &Self::Plan,
-        seed: Seed,
-        scratch: &mut Self::Scratch,
-    ) -> crate::Result<f64>;
-    /// A per-pixel quantity of the effect kept beside the images (direct
-    /// light: the fraction of the light hidden); `None` when it has none.
-    ///
-    /// # Errors
-    /// The kernel's error.
-    fn extra(&self, px: &Self::Pixel) -> crate::Result<Option<f32>> {
-        let _ = px;
-        Ok(None)
-    }
 }
 
 /// An image run, every parameter resolved.
@@ -124,7 +77,7 @@ impl<W: ImageWorld> Images<W> {
     /// # Errors
     /// A scene that no longer parses, or geometry the kernel refuses.
     pub fn new(config: ImagesConfig<W::Estimator>) -> crate::Result<Self> {
-        let world = W::new(config.source.scene()?, config.width, config.height)?;
+        let world = W::from_scene(config.source.scene()?, config.width, config.height)?;
         let cells = row_blocks(config.width, config.height, config.rows_per_cell);
         let twin = stream_rows(&config.estimators, W::twin);
         Ok(Images {
@@ -161,7 +114,7 @@ impl<W: ImageWorld> Images<W> {
 impl<W: ImageWorld> Experiment for Images<W> {
     type Config = ImagesConfig<W::Estimator>;
     type Cell = ImagesCell;
-    const KIND: &'static str = W::KIND;
+    const KIND: &'static str = W::EXPERIMENT;
     const UNIT: &'static str = "pixels";
 
     fn config(&self) -> &Self::Config {
@@ -212,7 +165,7 @@ pub struct ImagesCell {
     pub reference: Vec<f32>,
     /// Its standard error.
     pub reference_se: Vec<f32>,
-    /// [`ImageWorld::extra`] per pixel (empty when the effect has none).
+    /// [`Effect::extra`] per pixel (empty when the effect has none).
     pub extra: Vec<f32>,
     /// `images[e·L + l]`: estimator `e` at ladder `N_l`, per pixel.
     pub images: Vec<Vec<f32>>,
@@ -260,11 +213,11 @@ fn run_cell<W: ImageWorld>(
     let y1 = (y0 + rows).min(grid.height);
     let count = ((y1 - y0) * grid.width) as usize;
     let (ne, nl) = (cfg.estimators.len(), grid.ladder.len());
-    let reference = world.plan(None, grid.reference_lines, cfg.shift)?;
+    let reference = SamplePattern::of::<W>(None, grid.reference_lines, cfg.shift)?;
     let mut plans = Vec::with_capacity(ne * nl);
     for e in &cfg.estimators {
         for &n in grid.ladder {
-            plans.push(world.plan(Some(e), n, cfg.shift)?);
+            plans.push(SamplePattern::of::<W>(Some(e), n, cfg.shift)?);
         }
     }
     let at_n = grid.at_n()?;
@@ -276,7 +229,7 @@ fn run_cell<W: ImageWorld>(
         variance: nan_images(ne, count, "a variance image")?,
         seconds: vec![0.0; ne * nl],
     };
-    let mut scratch = world.scratch();
+    let mut scratch = samples::scratch(world);
     for y in y0..y1 {
         for x in 0..grid.width {
             let p = ((y - y0) * grid.width + x) as usize;
@@ -293,7 +246,13 @@ fn run_cell<W: ImageWorld>(
                 grid.seed,
             );
             for r in 0..grid.reference_realisations {
-                rs.push(world.estimate(&px, &reference, seeds.at(r), &mut scratch)?);
+                rs.push(samples::estimate(
+                    world,
+                    &px,
+                    &reference,
+                    seeds.at(r),
+                    &mut scratch,
+                )?);
             }
             cell.reference[p] = rs.mean() as f32;
             cell.reference_se[p] = rs.mean_std_error() as f32;
@@ -308,14 +267,20 @@ fn run_cell<W: ImageWorld>(
                     let k = e * nl + l;
                     let seeds = Realisations::of(&base.row(exp.twin[e], n), grid.seed);
                     let t = Instant::now();
-                    let v = world.estimate(&px, &plans[k], seeds.at(0), &mut scratch)?;
+                    let v = samples::estimate(world, &px, &plans[k], seeds.at(0), &mut scratch)?;
                     cell.seconds[k] += t.elapsed().as_secs_f64();
                     cell.images[k][p] = v as f32;
                     if l == at_n {
                         let mut vs = RunningStats::new();
                         vs.push(v);
                         for r in 1..grid.variance_realisations {
-                            vs.push(world.estimate(&px, &plans[k], seeds.at(r), &mut scratch)?);
+                            vs.push(samples::estimate(
+                                world,
+                                &px,
+                                &plans[k],
+                                seeds.at(r),
+                                &mut scratch,
+                            )?);
                         }
                         cell.variance[e][p] = vs.variance() as f32;
                     }

@@ -2,7 +2,6 @@
 //! [`crate::runner`], and returns typed results; printing and files are
 //! separate functions that read those results.
 
-pub mod ao_model;
 pub mod caustic;
 pub mod convergence;
 pub mod direct;
@@ -10,6 +9,7 @@ pub mod gallery;
 pub mod images;
 pub mod paper;
 pub mod patterns;
+pub mod samples;
 pub mod scene;
 pub mod scene_theory;
 pub mod spectrum;

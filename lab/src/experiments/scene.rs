@@ -39,8 +39,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-pub use crate::experiments::ao_model::{EstimatorSpec, Offsets, Pixel, World, SIMD_SPHERES};
 use crate::experiments::images;
+use crate::experiments::samples::{self, SamplePattern};
 use crate::experiments::scene_theory;
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
@@ -53,6 +53,7 @@ use crate::scene::{self, CentrePdf, Primitive, Scene, SceneSampler};
 use crate::spec::MergeRequest;
 use crate::spec::ShiftMode;
 use crate::streams::{Part, Stream};
+pub use linesample_scene::ao::world::{EstimatorSpec, Pixel, World, SIMD_SPHERES};
 
 /// The image experiment's name.
 pub const KIND: &str = "scene";
@@ -115,15 +116,6 @@ Runs: cells kept in OUT.state/ (resume, --fresh, --shard, merge: see
     crate::files_note!()
 );
 
-/// The reference estimator: lines with 1D-jittered azimuths.
-const REFERENCE: EstimatorSpec = EstimatorSpec {
-    primitive: Primitive::Lines,
-    length: 0.0,
-    pdf: CentrePdf::Uniform,
-    sampler: SceneSampler::Jittered,
-    simd: false,
-};
-
 /// A stream of the AO scene ([`crate::streams`]).
 fn stream(part: Part) -> Stream {
     Stream::new(scene::EffectKind::AmbientOcclusion, 3, part)
@@ -144,50 +136,8 @@ pub type ImagesCell = images::ImagesCell;
 pub type Images = images::Images<World>;
 
 impl images::ImageWorld for World {
-    type Estimator = EstimatorSpec;
-    type Pixel = Pixel;
-    type Plan = (EstimatorSpec, Offsets);
-    type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
-    const KIND: &'static str = KIND;
+    const EXPERIMENT: &'static str = KIND;
     const EFFECT: scene::EffectKind = scene::EffectKind::AmbientOcclusion;
-
-    fn new(scene: Scene, width: u32, height: u32) -> crate::Result<Self> {
-        World::new(scene, width, height)
-    }
-
-    fn twin(e: EstimatorSpec) -> EstimatorSpec {
-        EstimatorSpec { simd: false, ..e }
-    }
-
-    fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
-        World::pixel(self, x, y)
-    }
-
-    fn plan(
-        &self,
-        est: Option<&EstimatorSpec>,
-        n: usize,
-        shift: Option<ShiftMode>,
-    ) -> crate::Result<Self::Plan> {
-        let spec = est.copied().unwrap_or(REFERENCE);
-        let offsets = Offsets::new(&spec, n, shift != Some(ShiftMode::None))?;
-        Ok((spec, offsets))
-    }
-
-    fn scratch(&self) -> Self::Scratch {
-        (World::scratch(self), Vec::new())
-    }
-
-    fn estimate(
-        &self,
-        px: &Pixel,
-        (spec, offsets): &Self::Plan,
-        seed: linesample::Seed,
-        (scratch, uv): &mut Self::Scratch,
-    ) -> crate::Result<f64> {
-        offsets.fill(seed, uv)?;
-        World::estimate(self, px, spec, uv, scratch)
-    }
 }
 
 /// The `N` ladder up to `max`: powers of two (squares for jittered, whose 2D
@@ -612,8 +562,8 @@ impl PixelStudy {
 
 impl study::StudyEffect for PixelStudy {
     type Config = PixelConfig;
-    type Plan = (EstimatorSpec, Offsets);
-    type Scratch = (Vec<(f64, f64)>, Vec<[f32; 2]>);
+    type Plan = samples::Plan<World>;
+    type Scratch = samples::Scratch<World>;
     const CHUNK: u64 = CHUNK;
     const KIND: &'static str = PIXEL_KIND;
 
@@ -634,24 +584,22 @@ impl study::StudyEffect for PixelStudy {
     }
 
     fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
-        let spec = row.map_or(REFERENCE, |e| self.config.rows[e]);
-        let offsets = Offsets::new(&spec, n, self.config.shift == ShiftMode::Random)?;
-        Ok((spec, offsets))
+        let spec = row.map(|e| &self.config.rows[e]);
+        SamplePattern::of::<World>(spec, n, Some(self.config.shift))
     }
 
     fn scratch(&self) -> crate::Result<Self::Scratch> {
-        Ok((self.world.scratch(), Vec::new()))
+        Ok(samples::scratch(&self.world))
     }
 
     fn estimate(
         &self,
         _query: usize,
-        (spec, offsets): &Self::Plan,
+        plan: &Self::Plan,
         seed: linesample::Seed,
-        (scratch, uv): &mut Self::Scratch,
+        scratch: &mut Self::Scratch,
     ) -> crate::Result<f64> {
-        offsets.fill(seed, uv)?;
-        self.world.estimate(&self.px, spec, uv, scratch)
+        samples::estimate(&self.world, &self.px, plan, seed, scratch)
     }
 }
 

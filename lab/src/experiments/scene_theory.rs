@@ -40,9 +40,11 @@ use linesample::spectrum::Grid;
 use linesample::Seed;
 use linesample_nufft::Plan;
 
-use super::ao_model::{EstimatorSpec, Offsets, Pixel, World};
+use super::samples::SamplePattern;
 use crate::io::buffer;
 use crate::scene::{Primitive, SceneSampler};
+use crate::spec::ShiftMode;
+use linesample_scene::ao::world::{EstimatorSpec, Pixel, World};
 
 /// Side of the fine grid `f` is sampled on.
 pub const M: usize = 1024;
@@ -256,7 +258,7 @@ pub fn mean_periodogram(
     realisations: std::ops::Range<u64>,
     seed: Seed,
 ) -> crate::Result<Vec<f64>> {
-    let offsets = Offsets::new(spec, n, true)?;
+    let (_, offsets) = SamplePattern::of::<World>(Some(spec), n, Some(ShiftMode::Random))?;
     if spec.primitive == Primitive::Lines {
         mean_np::<1>(&offsets, K1, realisations, seed, |q| [f64::from(q[0])])
     } else {
@@ -269,7 +271,7 @@ pub fn mean_periodogram(
 /// The mean of `|F(j)|²/N` on the half grid of half-width `k` over the
 /// realisations, the offsets mapped to `D`-dimensional points by `point`.
 fn mean_np<const D: usize>(
-    offsets: &Offsets,
+    offsets: &SamplePattern,
     k: usize,
     realisations: std::ops::Range<u64>,
     seed: Seed,
@@ -279,10 +281,10 @@ fn mean_np<const D: usize>(
     let mut plan = Plan::<D>::new(k, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
     let len = plan.half_len();
     let (mut re, mut im, mut acc) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
-    let mut uv = Vec::new();
+    let (mut uv, mut one) = (Vec::new(), Vec::new());
     let mut pts = Vec::new();
     for r in realisations {
-        offsets.fill(seed.derive(&[r]), &mut uv)?;
+        offsets.fill(seed.derive(&[r]), &mut uv, &mut one)?;
         pts.clear();
         pts.extend(uv.iter().map(&point));
         plan.transform(&pts, &mut re, &mut im)

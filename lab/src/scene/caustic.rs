@@ -50,10 +50,7 @@
 
 use std::path::Path;
 
-use linesample::world::Sphere;
-use linesample_scene::caustic::{
-    Caustic, ConeEmitter, Fresnel, Glass, Medium, MAX_INTERNAL_REFLECTIONS,
-};
+use linesample_scene::caustic::MAX_INTERNAL_REFLECTIONS;
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -62,40 +59,7 @@ use super::{Ctx, EffectKind, SceneError, SceneSampler};
 /// The `[effect] kind` of a volumetric-caustic scene.
 pub const KIND_NAME: &str = "volumetric-caustic";
 
-/// A checked caustic scene (vectors padded to 3 components; `dims` says how
-/// many count).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CausticScene {
-    /// 2 or 3.
-    pub dims: usize,
-    pub light: [f64; 3],
-    pub axis: [f64; 3],
-    /// Half-angle, degrees.
-    pub cone_deg: f64,
-    pub glass_centre: [f64; 3],
-    pub glass_radius: f64,
-    pub ior: f64,
-    pub fresnel: bool,
-    pub internal_reflections: u32,
-    pub sigma_s: f64,
-    pub sigma_a: f64,
-    pub query_centre: [f64; 3],
-    pub query_radius: f64,
-    pub fluence: FluenceDef,
-    pub samplers: Vec<SceneSampler>,
-}
-
-/// The fluence image's frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct FluenceDef {
-    pub centre: [f64; 3],
-    pub size: [f64; 2],
-    pub width: u32,
-    pub height: u32,
-    pub beams: u64,
-    /// 3D: the slab's thickness.
-    pub thickness: Option<f64>,
-}
+pub use linesample_scene::model::{CausticScene, FluenceDef};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -433,38 +397,6 @@ pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
     } else {
         scene.kernel::<3>().map(|_| ())
     };
-    kernel.map_err(|e| ctx.at(raw.glass.span(), "(scene)", e))?;
+    kernel.map_err(|e| ctx.at(raw.glass.span(), "(scene)", e.to_string()))?;
     Ok(scene)
-}
-
-impl CausticScene {
-    /// The kernel's scene (`D` must be [`CausticScene::dims`]).
-    ///
-    /// # Errors
-    /// A parameter the kernel rejects, or `D ≠ dims`.
-    pub fn kernel<const D: usize>(&self) -> Result<Caustic<D>, String> {
-        if D != self.dims {
-            return Err(format!(
-                "internal error: a {}D scene built as {D}D",
-                self.dims
-            ));
-        }
-        let v = |a: &[f64; 3]| -> [f64; D] { std::array::from_fn(|j| a[j]) };
-        let e = |e: linesample::ParamError| e.to_string();
-        let light =
-            ConeEmitter::<D>::new(v(&self.light), v(&self.axis), self.cone_deg.to_radians())
-                .map_err(e)?;
-        let glass =
-            Glass::<D>::new(v(&self.glass_centre), self.glass_radius, self.ior).map_err(e)?;
-        let medium = Medium::new(self.sigma_s, self.sigma_a).map_err(e)?;
-        let query = Sphere::<D>::new(v(&self.query_centre), self.query_radius).map_err(e)?;
-        let fresnel = if self.fresnel {
-            Fresnel::On {
-                internal_reflections: self.internal_reflections,
-            }
-        } else {
-            Fresnel::Off
-        };
-        Caustic::new(light, glass, medium, query, fresnel).map_err(e)
-    }
 }

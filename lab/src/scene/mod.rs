@@ -169,207 +169,11 @@ impl SceneSource {
 }
 
 pub use linesample_scene::camera::Camera;
-
-/// A sphere of the scene.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SphereDef {
-    /// Centre.
-    pub centre: [f64; 3],
-    /// Radius, positive.
-    pub radius: f64,
-}
-
-/// A parallelogram of the scene (a wall): `corner + a·edge1 + b·edge2`,
-/// `a, b ∈ [0, 1]`, diffuse with an RGB albedo.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct QuadDef {
-    /// The corner.
-    pub corner: [f64; 3],
-    /// First edge.
-    pub edge1: [f64; 3],
-    /// Second edge (not parallel to the first).
-    pub edge2: [f64; 3],
-    /// Diffuse albedo, each channel in `[0, 1]`.
-    pub albedo: [f64; 3],
-}
-
-/// A box standing on its base, rotated about the vertical `y` axis.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BoxDef {
-    /// The centre of its base.
-    pub base: [f64; 3],
-    /// Width (x), height (y) and depth (z) before the rotation, positive.
-    pub size: [f64; 3],
-    /// Rotation about `+y`, degrees (counter-clockwise seen from above).
-    pub rotation_deg: f64,
-    /// Diffuse albedo, each channel in `[0, 1]`.
-    pub albedo: [f64; 3],
-}
-
-impl BoxDef {
-    /// The six faces as parallelograms with outward normals `edge1 × edge2`.
-    #[must_use]
-    pub fn faces(&self) -> [([f64; 3], [f64; 3], [f64; 3]); 6] {
-        let (s, c) = self.rotation_deg.to_radians().sin_cos();
-        // Rotation about +y: x' = c x + s z, z' = −s x + c z.
-        let ex = [c * self.size[0], 0.0, -s * self.size[0]];
-        let ey = [0.0, self.size[1], 0.0];
-        let ez = [s * self.size[2], 0.0, c * self.size[2]];
-        let o = [
-            self.base[0] - 0.5 * (ex[0] + ez[0]),
-            self.base[1],
-            self.base[2] - 0.5 * (ex[2] + ez[2]),
-        ];
-        let add = |a: [f64; 3], b: [f64; 3]| [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
-        let (ox, oy, oz) = (add(o, ex), add(o, ey), add(o, ez));
-        [
-            (o, ex, ez),  // bottom: ex × ez = −y
-            (oy, ez, ex), // top: ez × ex = +y
-            (o, ey, ex),  // the z-min side: ey × ex = −z
-            (oz, ex, ey), // the z-max side: ex × ey = +z
-            (o, ez, ey),  // the x-min side: ez × ey = −x
-            (ox, ey, ez), // the x-max side: ey × ez = +x
-        ]
-    }
-}
-
-/// The scene's rectangular area light: corner, orthogonal edges, emitting
-/// towards `edge1 × edge2`, with an RGB radiance.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LightDef {
-    /// The corner.
-    pub corner: [f64; 3],
-    /// First edge ("orientation 1" lines run along it).
-    pub edge1: [f64; 3],
-    /// Second edge, orthogonal to the first.
-    pub edge2: [f64; 3],
-    /// Emitted radiance, RGB, non-negative.
-    pub radiance: [f64; 3],
-}
-
-/// How the lines of a direct-light line estimator are oriented on the
-/// light (Billen & Dutré 2016; Singh, Miller & Jarosz 2017 §7.2).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Orientation {
-    /// Along the light's first edge (offsets along the second).
-    Edge1,
-    /// Along the light's second edge.
-    Edge2,
-    /// At a fixed angle from the first edge, degrees.
-    Angle(f64),
-    /// One uniformly random direction per estimate (per shading point).
-    RandomPerPoint,
-    /// An independent random direction per line.
-    RandomPerLine,
-    /// Directions and offsets from one 2D pattern: `(φ/π, offset)`.
-    Stratified,
-}
-
-impl Orientation {
-    /// The name a scene file uses (`edge1`, `angle-30`, …).
-    #[must_use]
-    pub fn name(self) -> String {
-        match self {
-            Orientation::Edge1 => "edge1".into(),
-            Orientation::Edge2 => "edge2".into(),
-            Orientation::Angle(a) => format!("angle-{a}"),
-            Orientation::RandomPerPoint => "random-per-point".into(),
-            Orientation::RandomPerLine => "random-per-line".into(),
-            Orientation::Stratified => "stratified".into(),
-        }
-    }
-
-    /// Parses a name (`angle-<degrees>` with a finite angle).
-    #[must_use]
-    pub fn parse(name: &str) -> Option<Orientation> {
-        match name {
-            "edge1" => Some(Orientation::Edge1),
-            "edge2" => Some(Orientation::Edge2),
-            "random-per-point" => Some(Orientation::RandomPerPoint),
-            "random-per-line" => Some(Orientation::RandomPerLine),
-            "stratified" => Some(Orientation::Stratified),
-            _ => {
-                let a: f64 = name.strip_prefix("angle-")?.parse().ok()?;
-                a.is_finite().then_some(Orientation::Angle(a))
-            }
-        }
-    }
-}
-
-/// The one effect a scene estimates.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Effect {
-    /// Cosine-weighted ambient occlusion, normalised to 1 when nothing
-    /// occludes, counting hits up to `max_distance`.
-    AmbientOcclusion {
-        /// Largest distance at which a sphere occludes.
-        max_distance: f64,
-    },
-    /// Direct light from the scene's one rectangular `[light]` onto diffuse
-    /// surfaces: no indirect bounces, no specular, no medium.
-    DirectLight,
-}
+pub use linesample_scene::model::{
+    BoxDef, EffectParams, Estimators, Hit, LightDef, Orientation, QuadDef, Scene, SphereDef,
+};
 
 pub use crate::spec::{CentrePdf, Primitive, SceneSampler};
-
-/// The estimators a scene compares.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Estimators {
-    /// Primitives.
-    pub primitives: Vec<Primitive>,
-    /// Segment lengths in `θ`, in `(0, π]` (`π` is the whole line).
-    pub segment_lengths: Vec<f64>,
-    /// Centre densities.
-    pub pdfs: Vec<CentrePdf>,
-    /// Samplers.
-    pub samplers: Vec<SceneSampler>,
-    /// Line orientations (direct light).
-    pub orientations: Vec<Orientation>,
-}
-
-impl Default for Estimators {
-    fn default() -> Self {
-        Self {
-            primitives: vec![Primitive::Points, Primitive::Segments, Primitive::Lines],
-            segment_lengths: vec![0.001, 0.1, 1.0, std::f64::consts::PI],
-            pdfs: vec![CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine],
-            samplers: vec![
-                SceneSampler::Random,
-                SceneSampler::Jittered,
-                SceneSampler::MultiJittered,
-                SceneSampler::Cmj,
-                SceneSampler::Sobol,
-            ],
-            orientations: vec![
-                Orientation::Edge1,
-                Orientation::Edge2,
-                Orientation::RandomPerPoint,
-                Orientation::RandomPerLine,
-                Orientation::Stratified,
-            ],
-        }
-    }
-}
-
-/// A checked scene.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Scene {
-    /// The camera.
-    pub camera: Camera,
-    /// The spheres (at least one for ambient occlusion).
-    pub spheres: Vec<SphereDef>,
-    /// Walls and other parallelograms.
-    pub quads: Vec<QuadDef>,
-    /// Boxes.
-    pub boxes: Vec<BoxDef>,
-    /// The area light (direct light needs it).
-    pub light: Option<LightDef>,
-    /// The effect to estimate.
-    pub effect: Effect,
-    /// The estimators to compare.
-    pub estimators: Estimators,
-}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -849,7 +653,11 @@ fn parse_light(ctx: &Ctx<'_>, raw: &Spanned<RawLight>) -> Result<LightDef, Scene
     })
 }
 
-fn parse_effect(ctx: &Ctx<'_>, kind: EffectKind, raw: &RawScene) -> Result<Effect, SceneError> {
+fn parse_effect(
+    ctx: &Ctx<'_>,
+    kind: EffectKind,
+    raw: &RawScene,
+) -> Result<EffectParams, SceneError> {
     let e = raw.effect.get_ref();
     match kind {
         EffectKind::AmbientOcclusion => {
@@ -871,7 +679,7 @@ fn parse_effect(ctx: &Ctx<'_>, kind: EffectKind, raw: &RawScene) -> Result<Effec
             if raw.sphere.is_empty() {
                 return Err(ctx.at(0..0, "sphere", "the scene has no [[sphere]]".into()));
             }
-            Ok(Effect::AmbientOcclusion { max_distance: d })
+            Ok(EffectParams::AmbientOcclusion { max_distance: d })
         }
         EffectKind::DirectLight => {
             if raw.light.is_none() {
@@ -881,7 +689,7 @@ fn parse_effect(ctx: &Ctx<'_>, kind: EffectKind, raw: &RawScene) -> Result<Effec
                     "direct-light needs a [light]".into(),
                 ));
             }
-            Ok(Effect::DirectLight)
+            Ok(EffectParams::DirectLight)
         }
         EffectKind::VolumetricCaustic => Err(ctx.at(
             e.kind.span(),
@@ -975,103 +783,7 @@ fn parse_orientations(
     Ok(v)
 }
 
-/// Where a camera ray meets the scene first: the shading point, its unit
-/// outward normal and the sphere's index.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Hit {
-    /// The point.
-    pub point: [f64; 3],
-    /// The unit outward normal.
-    pub normal: [f64; 3],
-    /// Index of the sphere in [`Scene::spheres`].
-    pub sphere: usize,
-}
-
-impl Scene {
-    /// The scene's spheres as kernel spheres.
-    ///
-    /// # Errors
-    /// A radius outside the kernel's `[1e−100, 1e100]`.
-    pub fn kernel_spheres(&self) -> crate::Result<Vec<linesample::world::Sphere<3>>> {
-        self.spheres
-            .iter()
-            .enumerate()
-            .map(|(i, s)| {
-                linesample::world::Sphere::new(s.centre, s.radius)
-                    .map_err(|e| format!("sphere[{i}]: {e}").into())
-            })
-            .collect()
-    }
-
-    /// The first sphere the ray `origin + t·dir`, `t > 0`, meets
-    /// ([`linesample::world::Sphere::hit`]), or `None`.
-    #[must_use]
-    pub fn first_hit(
-        spheres: &[linesample::world::Sphere<3>],
-        origin: [f64; 3],
-        dir: [f64; 3],
-    ) -> Option<Hit> {
-        let ray = linesample::world::Ray::new(origin, dir).ok()?;
-        let mut best: Option<(f64, usize)> = None;
-        for (i, s) in spheres.iter().enumerate() {
-            if let Some((t0, t1)) = s.hit(&ray) {
-                let t = if t0 > 0.0 { t0 } else { t1 };
-                if t > 0.0 && best.is_none_or(|(b, _)| t < b) {
-                    best = Some((t, i));
-                }
-            }
-        }
-        let (t, i) = best?;
-        let point = ray.at(t);
-        let c = spheres[i].centre();
-        let r = spheres[i].radius();
-        let normal = unit([
-            (point[0] - c[0]) / r,
-            (point[1] - c[1]) / r,
-            (point[2] - c[2]) / r,
-        ]);
-        Some(Hit {
-            point,
-            normal,
-            sphere: i,
-        })
-    }
-}
-
-/// Ambient occlusion at a shading point by the line estimator: the mean over
-/// the azimuths `phis` (each in `[0, π)`) of the whole half-plane's visible
-/// cosine weight ([`linesample_scene::HalfPlane::visible`]), i.e.
-/// `(1/N)Σ_k ∫_{−π/2}^{π/2} V(φ_k, θ)|sin θ| cos θ dθ`, an unbiased estimate
-/// of `AO = (1/π)∫_0^π dφ ∫ V|sin θ| cos θ dθ` for uniform `φ_k`.
-///
-/// # Errors
-/// A degenerate normal.
-pub fn ao_lines(
-    spheres: &[linesample::world::Sphere<3>],
-    max_distance: f64,
-    point: [f64; 3],
-    normal: [f64; 3],
-    phis: &[f64],
-) -> crate::Result<f64> {
-    let t = linesample_scene::ao::Frame::new(point, normal).tangent;
-    let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
-    let mut sum = 0.0;
-    for &phi in phis {
-        let hp = linesample_scene::HalfPlane::at_azimuth(point, normal, t, phi)
-            .map_err(|e| format!("shading frame: {e}"))?;
-        let half = std::f64::consts::FRAC_PI_2;
-        sum += hp
-            .visible(spheres, max_distance, -half, half, &mut scratch)
-            .map_err(|e| crate::LabError::Message(e.to_string()))?;
-    }
-    Ok(sum / phis.len() as f64)
-}
-
-/// `a/|a|`.
-pub(crate) fn unit(a: [f64; 3]) -> [f64; 3] {
-    let l = norm2(a).sqrt();
-    [a[0] / l, a[1] / l, a[2] / l]
-}
+pub use linesample_scene::ao::world::ao_lines;
 
 pub(crate) struct Ctx<'a> {
     pub(crate) path: &'a Path,

@@ -37,6 +37,9 @@ use linesample::ParamError;
 
 use crate::HalfPlane;
 
+#[cfg(feature = "alloc")]
+pub mod world;
+
 /// The density of the sample centres over the hemisphere, `p_θ` above.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]

@@ -142,6 +142,11 @@ use linesample::num::scalar::sqrt;
 use linesample::world::check_finite;
 use linesample::ParamError;
 
+use crate::vec3::{add, cross, dot, norm, scale, sub};
+
+#[cfg(feature = "alloc")]
+pub mod world;
+
 /// A rectangular area light: corner `c`, orthogonal edges `e₁`, `e₂`,
 /// emitting on the side of `n_L = ê₁ × ê₂` (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -864,34 +869,6 @@ fn x_minus_sin(x: f64) -> f64 {
 
 fn factorial(n: u32) -> f64 {
     (2..=n).fold(1.0, |a, k| a * f64::from(k))
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn norm(a: [f64; 3]) -> f64 {
-    sqrt(dot(a, a))
 }
 
 #[cfg(test)]

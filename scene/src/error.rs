@@ -1,0 +1,72 @@
+//! The scene crate's one error type.
+
+use core::fmt;
+
+use linesample::ParamError;
+
+/// Why a scene's world or an estimate could not be made. Every message
+/// names what it is about.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Error {
+    /// The kernel refused a parameter.
+    Param(ParamError),
+    /// The kernel refused item `index` of the scene's `what` (`sphere`,
+    /// `quad`, `box`, `light`).
+    Item {
+        /// The scene's list (`sphere`, `quad`, …).
+        what: &'static str,
+        /// The item's index in it.
+        index: usize,
+        /// The kernel's reason.
+        error: ParamError,
+    },
+    /// The scene asks for another effect than the one built from it.
+    WrongEffect {
+        /// The effect that was asked to build.
+        expected: &'static str,
+    },
+    /// A fixed-capacity batch cannot hold what this query needs.
+    Capacity {
+        /// What is held (`occluding spheres`, `shadow polygons`).
+        what: &'static str,
+        /// The capacity.
+        limit: usize,
+        /// What the query needs.
+        got: usize,
+    },
+    /// This estimator cannot be evaluated this way.
+    Unsupported {
+        /// What was asked.
+        what: &'static str,
+    },
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match *self {
+            Error::Param(e) => write!(f, "{e}"),
+            Error::Item { what, index, error } => write!(f, "{what}[{index}]: {error}"),
+            Error::WrongEffect { expected } => write!(f, "the scene's effect is not {expected}"),
+            Error::Capacity { what, limit, got } => {
+                write!(f, "{got} {what} exceed the batch's capacity of {limit}")
+            }
+            Error::Unsupported { what } => write!(f, "{what} is not supported"),
+        }
+    }
+}
+
+impl core::error::Error for Error {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        match self {
+            Error::Param(e) | Error::Item { error: e, .. } => Some(e),
+            _ => None,
+        }
+    }
+}
+
+impl From<ParamError> for Error {
+    fn from(e: ParamError) -> Self {
+        Error::Param(e)
+    }
+}
