@@ -1,0 +1,352 @@
+//! The scene layer: the model's geometry, the worlds built from a scene
+//! through [`Effect`], and what each effect's rules say.
+
+use linesample::Seed;
+use linesample_scene::ao::world::{ao_lines, EstimatorSpec, World};
+use linesample_scene::ao::CentrePdf;
+use linesample_scene::camera::Camera;
+use linesample_scene::direct_light::world::{DlEstimator, DlWorld};
+use linesample_scene::model::{
+    BoxDef, EffectParams, Estimators, LightDef, Orientation, Primitive, QuadDef, Scene,
+    SceneSampler, SphereDef,
+};
+use linesample_scene::{Effect, Error};
+
+fn camera() -> Camera {
+    Camera {
+        from: [0.0, 5.0, 0.001],
+        at: [0.0, 0.0, 0.0],
+        up: [0.0, 1.0, 0.0],
+        fov_deg: 30.0,
+        width: 32,
+        height: 32,
+    }
+}
+
+fn ao_scene(spheres: Vec<SphereDef>) -> Scene {
+    Scene {
+        camera: camera(),
+        spheres,
+        quads: Vec::new(),
+        boxes: Vec::new(),
+        light: None,
+        effect: EffectParams::AmbientOcclusion {
+            max_distance: 100.0,
+        },
+        estimators: Estimators::default(),
+    }
+}
+
+/// A floor `[-1, 1]²` at `y = 0`, a `0.4 × 0.4` light facing down at
+/// `y = 2`, and the given extra quads.
+fn dl_scene(panels: Vec<QuadDef>) -> Scene {
+    let mut quads = vec![QuadDef {
+        corner: [-1.0, 0.0, -1.0],
+        edge1: [0.0, 0.0, 2.0],
+        edge2: [2.0, 0.0, 0.0],
+        albedo: [0.5; 3],
+    }];
+    quads.extend(panels);
+    Scene {
+        camera: camera(),
+        spheres: Vec::new(),
+        quads,
+        boxes: Vec::new(),
+        light: Some(LightDef {
+            corner: [-0.2, 2.0, -0.2],
+            edge1: [0.4, 0.0, 0.0],
+            edge2: [0.0, 0.0, 0.4],
+            radiance: [1.0; 3],
+        }),
+        effect: EffectParams::DirectLight,
+        estimators: Estimators::default(),
+    }
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// Each face's `edge1 × edge2` points away from the box's centre and has
+/// the face's area, and the six area vectors of a closed box sum to zero.
+#[test]
+fn box_faces_are_outward_and_close_the_box() {
+    for rot in [0.0, 17.0, 90.0, -33.0, 180.0] {
+        let b = BoxDef {
+            base: [0.3, 0.1, -0.2],
+            size: [0.6, 1.2, 0.4],
+            rotation_deg: rot,
+            albedo: [0.5; 3],
+        };
+        let centre = [b.base[0], b.base[1] + 0.5 * b.size[1], b.base[2]];
+        let mut sum = [0.0f64; 3];
+        let mut area = 0.0;
+        for (c, e1, e2) in b.faces() {
+            let n = cross(e1, e2);
+            let mid: Vec<f64> = (0..3).map(|k| c[k] + 0.5 * (e1[k] + e2[k])).collect();
+            let out: f64 = (0..3).map(|k| n[k] * (mid[k] - centre[k])).sum();
+            assert!(out > 0.0, "rotation {rot}: a face's normal points inwards");
+            for k in 0..3 {
+                sum[k] += n[k];
+            }
+            area += (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+        }
+        let (w, h, d) = (b.size[0], b.size[1], b.size[2]);
+        let want = 2.0 * (w * h + w * d + h * d);
+        assert!(
+            (area - want).abs() < 1e-14 * want,
+            "rotation {rot}: area {area}"
+        );
+        assert!(
+            sum.iter().all(|s| s.abs() < 1e-15),
+            "rotation {rot}: {sum:?}"
+        );
+    }
+}
+
+/// A world refuses a scene of the other effect, a direct-light scene
+/// without a light, and geometry the kernel refuses, naming the item.
+#[test]
+fn worlds_refuse_what_they_cannot_build() {
+    let ao = ao_scene(vec![SphereDef {
+        centre: [0.0, -1.0, 0.0],
+        radius: 1.0,
+    }]);
+    assert!(matches!(
+        DlWorld::from_scene(ao.clone(), 8, 8),
+        Err(Error::WrongEffect { .. })
+    ));
+    assert!(matches!(
+        World::from_scene(dl_scene(Vec::new()), 8, 8),
+        Err(Error::WrongEffect { .. })
+    ));
+    let mut dark = dl_scene(Vec::new());
+    dark.light = None;
+    assert!(matches!(
+        DlWorld::from_scene(dark, 8, 8),
+        Err(Error::WrongEffect { .. })
+    ));
+    let mut bad = ao.clone();
+    bad.spheres.push(SphereDef {
+        centre: [0.0; 3],
+        radius: 0.0,
+    });
+    let e = World::from_scene(bad, 8, 8).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Item {
+                what: "sphere",
+                index: 1,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(e.to_string().starts_with("sphere[1]: "), "{e}");
+    let mut flat = dl_scene(Vec::new());
+    flat.quads[0].edge2 = flat.quads[0].edge1;
+    let e = DlWorld::from_scene(flat, 8, 8).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            Error::Item {
+                what: "quad",
+                index: 0,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+}
+
+/// AO through the trait: on a lone sphere nothing occludes the top, so
+/// every estimator of every density gives exactly 1 there (the
+/// normalisation); next to a second sphere the line estimator from samples
+/// `u` is the mean of the whole lines at `φ = πu`, as `ao_lines` computes
+/// them on its own path.
+#[test]
+fn ao_estimates_through_the_trait() {
+    let ground = SphereDef {
+        centre: [0.0, -1.0, 0.0],
+        radius: 1.0,
+    };
+    let world = World::from_scene(ao_scene(vec![ground]), 32, 32).unwrap();
+    let px = Effect::pixel(&world, 16, 16).expect("the centre pixel sees the sphere");
+    let mut scratch = Effect::scratch(&world);
+    let samples: Vec<[f32; 2]> = (0..16)
+        .map(|k| [(k as f32 + 0.5) / 16.0, ((k * 7) % 16) as f32 / 16.0 + 0.01])
+        .collect();
+    for primitive in [Primitive::Points, Primitive::Segments, Primitive::Lines] {
+        for pdf in [CentrePdf::Uniform, CentrePdf::SolidAngle, CentrePdf::Cosine] {
+            let est = EstimatorSpec {
+                primitive,
+                length: if primitive == Primitive::Segments {
+                    0.5
+                } else {
+                    0.0
+                },
+                pdf,
+                sampler: SceneSampler::Jittered,
+                simd: false,
+            };
+            let v =
+                Effect::estimate(&world, &px, &est, &samples, Seed::new(1), &mut scratch).unwrap();
+            // Lines: the visible measure of a whole unoccluded line is 1.
+            // Cosine points: g/p is 1 at every sample (p ∝ g). The others
+            // are means of g/p, exact only in expectation.
+            if primitive == Primitive::Lines
+                || (pdf == CentrePdf::Cosine && primitive == Primitive::Points)
+            {
+                assert!((v - 1.0).abs() < 1e-12, "{primitive:?} {pdf:?}: {v}");
+            } else {
+                assert!(v.is_finite() && v > 0.0, "{primitive:?} {pdf:?}: {v}");
+            }
+        }
+    }
+    let near = SphereDef {
+        centre: [0.35, 0.25, 0.0],
+        radius: 0.3,
+    };
+    let scene = ao_scene(vec![ground, near]);
+    let spheres = scene.kernel_spheres().unwrap();
+    let world = World::from_scene(scene, 32, 32).unwrap();
+    let px = world.pixel(16, 16).unwrap();
+    let mut scratch = world.scratch();
+    let lines = EstimatorSpec {
+        primitive: Primitive::Lines,
+        length: 0.0,
+        pdf: CentrePdf::Uniform,
+        sampler: SceneSampler::Jittered,
+        simd: false,
+    };
+    let v = Effect::estimate(&world, &px, &lines, &samples, Seed::new(1), &mut scratch).unwrap();
+    let phis: Vec<f64> = samples
+        .iter()
+        .map(|s| std::f64::consts::PI * f64::from(s[0]))
+        .collect();
+    let want = ao_lines(&spheres, 100.0, px.frame.point, px.frame.normal, &phis).unwrap();
+    assert!(want < 0.999, "the second sphere must occlude: {want}");
+    assert!((v - want).abs() < 1e-12, "{v} vs {want}");
+}
+
+/// The effects' shift rules: AO shifts every pattern (the reference's too)
+/// unless told not to; direct light shifts only Sobol′ by default and never
+/// its reference.
+#[test]
+fn shift_rules() {
+    let ao = EstimatorSpec {
+        primitive: Primitive::Points,
+        length: 0.0,
+        pdf: CentrePdf::Uniform,
+        sampler: SceneSampler::Jittered,
+        simd: false,
+    };
+    assert!(World::shifted(None, None));
+    assert!(World::shifted(Some(&ao), None));
+    assert!(!World::shifted(Some(&ao), Some(false)));
+    assert!(!World::shifted(None, Some(false)));
+    let dl = |sampler| DlEstimator {
+        lines: Some(Orientation::Edge1),
+        sampler,
+        simd: false,
+    };
+    assert!(!DlWorld::shifted(None, None));
+    assert!(!DlWorld::shifted(None, Some(true)));
+    assert!(!DlWorld::shifted(Some(&dl(SceneSampler::Jittered)), None));
+    assert!(DlWorld::shifted(Some(&dl(SceneSampler::Sobol)), None));
+    assert!(DlWorld::shifted(
+        Some(&dl(SceneSampler::Jittered)),
+        Some(true)
+    ));
+    assert!(!DlWorld::shifted(
+        Some(&dl(SceneSampler::Sobol)),
+        Some(false)
+    ));
+    assert_eq!(DlWorld::dims(&dl(SceneSampler::Jittered)), 1);
+    assert_eq!(
+        DlWorld::dims(&DlEstimator {
+            lines: Some(Orientation::Stratified),
+            ..dl(SceneSampler::Jittered)
+        }),
+        2
+    );
+    assert_eq!(World::dims(&ao), 2);
+    assert_eq!(
+        World::dims(&EstimatorSpec {
+            primitive: Primitive::Lines,
+            ..ao
+        }),
+        1
+    );
+}
+
+/// A free-standing panel just under the light hides all of it from the
+/// floor point below: the hidden fraction is 1 and every estimate 0; without
+/// the panel nothing is hidden and the estimates agree with each other.
+#[test]
+fn a_free_standing_quad_casts_its_shadow() {
+    let panel = QuadDef {
+        corner: [-0.5, 1.9, -0.5],
+        edge1: [1.0, 0.0, 0.0],
+        edge2: [0.0, 0.0, 1.0],
+        albedo: [0.5; 3],
+    };
+    let samples: Vec<[f32; 2]> = (0..16)
+        .map(|k| [(k as f32 + 0.5) / 16.0, ((k * 5) % 16) as f32 / 16.0 + 0.03])
+        .collect();
+    let ests = [
+        DlEstimator {
+            lines: None,
+            sampler: SceneSampler::Jittered,
+            simd: false,
+        },
+        DlEstimator {
+            lines: Some(Orientation::Edge1),
+            sampler: SceneSampler::Jittered,
+            simd: false,
+        },
+        DlEstimator {
+            lines: Some(Orientation::Edge1),
+            sampler: SceneSampler::Jittered,
+            simd: true,
+        },
+    ];
+    for (with_panel, hidden_want) in [(true, 1.0), (false, 0.0)] {
+        let panels = if with_panel { vec![panel] } else { Vec::new() };
+        let world = DlWorld::from_scene(dl_scene(panels), 32, 32).unwrap();
+        let px = world.surface_point([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5; 3], Some(0));
+        let hidden = world.hidden_fraction(&px, 64).unwrap();
+        assert!(
+            (hidden - hidden_want).abs() < 1e-12,
+            "panel {with_panel}: hidden {hidden}"
+        );
+        assert_eq!(
+            Effect::extra(&world, &px).unwrap(),
+            Some(hidden as f32),
+            "the extra quantity is the hidden fraction"
+        );
+        let mut scratch = world.scratch();
+        let vs: Vec<f64> = ests
+            .iter()
+            .map(|e| {
+                Effect::estimate(&world, &px, e, &samples, Seed::new(3), &mut scratch).unwrap()
+            })
+            .collect();
+        if with_panel {
+            assert!(vs.iter().all(|&v| v == 0.0), "{vs:?}");
+        } else {
+            // Lines along an edge see no shadow: the f32 batch rounds.
+            assert!(
+                vs[1] > 0.0 && (vs[2] - vs[1]).abs() < 1e-5 * vs[1],
+                "{vs:?}"
+            );
+            // Points and lines estimate the same unshadowed integral.
+            assert!((vs[0] - vs[1]).abs() < 0.05 * vs[1], "{vs:?}");
+        }
+    }
+}
