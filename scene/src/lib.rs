@@ -31,7 +31,10 @@
 //! * `Effect`: one trait every camera effect implements (the world built
 //!   from a scene, the shading point of a pixel, one estimate from a row's
 //!   samples and seed), like a pbrt-v4 integrator's `Li()`;
-//!   `ao::world::World` and `direct_light::world::DlWorld` implement it.
+//!   `ao::world::World` and `direct_light::world::DlWorld` implement it;
+//! * `schema` (feature `toml`, no std needed): the scene file reader into
+//!   the model, one entry for every effect, errors naming the file, line,
+//!   column and field, every field an effect does not use an error.
 //!
 //! They build on the kernel's shapes ([`linesample::world`]: spheres,
 //! rays, planes, Gaussians), its numeric core and its lane abstraction, so
@@ -74,6 +77,8 @@ pub mod fluence;
 pub mod model;
 pub mod occlusion;
 pub mod occlusion_f32;
+#[cfg(feature = "toml")]
+pub mod schema;
 mod vec3;
 
 #[cfg(feature = "alloc")]

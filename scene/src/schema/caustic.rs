@@ -48,9 +48,12 @@
 //! fluence beams, a missing `thickness` in 3D (or one given in 2D), and a
 //! sampler that cannot make the estimators' patterns.
 
-use std::path::Path;
+use alloc::format;
+use alloc::string::{String, ToString};
+use alloc::vec;
+use alloc::vec::Vec;
 
-use linesample_scene::caustic::MAX_INTERNAL_REFLECTIONS;
+use crate::caustic::MAX_INTERNAL_REFLECTIONS;
 use serde::Deserialize;
 use toml::Spanned;
 
@@ -59,7 +62,7 @@ use super::{Ctx, EffectKind, SceneError, SceneSampler};
 /// The `[effect] kind` of a volumetric-caustic scene.
 pub const KIND_NAME: &str = "volumetric-caustic";
 
-pub use linesample_scene::model::{CausticScene, FluenceDef};
+use crate::model::{CausticScene, FluenceDef};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -304,9 +307,9 @@ fn parse_fluence(
 ///
 /// # Errors
 /// A [`SceneError`] naming the file, line, column and field.
-pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
-    let ctx = Ctx { path, text };
-    let kind = crate::scene::effect_kind(path, text)?;
+pub fn parse(file: &str, text: &str) -> Result<CausticScene, SceneError> {
+    let ctx = Ctx { file, text };
+    let kind = super::effect_kind(file, text)?;
     if kind != EffectKind::VolumetricCaustic {
         return Err(ctx.at(
             0..0,
@@ -345,9 +348,12 @@ pub fn parse(path: &Path, text: &str) -> Result<CausticScene, SceneError> {
     let (glass_centre, glass_radius, ior, fresnel, internal_reflections) =
         parse_glass(&ctx, g, dims)?;
     let d2: f64 = (0..dims)
-        .map(|j| (light[j] - glass_centre[j]).powi(2))
+        .map(|j| {
+            let d = light[j] - glass_centre[j];
+            d * d
+        })
         .sum();
-    if d2.sqrt() <= glass_radius {
+    if libm::sqrt(d2) <= glass_radius {
         return Err(ctx.at(
             l.position.span(),
             "light.position",
