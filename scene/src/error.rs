@@ -6,7 +6,7 @@ use linesample::ParamError;
 
 /// Why a scene's world or an estimate could not be made. Every message
 /// names what it is about.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Error {
     /// The kernel refused a parameter.
@@ -35,6 +35,16 @@ pub enum Error {
         /// What the query needs.
         got: usize,
     },
+    /// A large buffer could not be allocated (an error, never an abort).
+    Alloc {
+        /// Which buffer.
+        what: &'static str,
+        /// Its size in bytes.
+        bytes: u128,
+    },
+    /// The NUFFT refused a plan or a transform (feature `theory`).
+    #[cfg(feature = "theory")]
+    Nufft(linesample_nufft::NufftError),
     /// This estimator cannot be evaluated this way.
     Unsupported {
         /// What was asked.
@@ -45,13 +55,18 @@ pub enum Error {
 impl fmt::Display for Error {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Error::Param(e) => write!(f, "{e}"),
+            Error::Param(ref e) => write!(f, "{e}"),
             Error::Item { what, index, error } => write!(f, "{what}[{index}]: {error}"),
             Error::WrongEffect { expected } => write!(f, "the scene's effect is not {expected}"),
             Error::Capacity { what, limit, got } => {
                 write!(f, "{got} {what} exceed the batch's capacity of {limit}")
             }
             Error::Unsupported { what } => write!(f, "{what} is not supported"),
+            Error::Alloc { what, bytes } => {
+                write!(f, "{what}: cannot allocate {bytes} bytes; lower the size")
+            }
+            #[cfg(feature = "theory")]
+            Error::Nufft(ref e) => write!(f, "NUFFT: {e}"),
         }
     }
 }
@@ -60,6 +75,8 @@ impl core::error::Error for Error {
     fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
         match self {
             Error::Param(e) | Error::Item { error: e, .. } => Some(e),
+            #[cfg(feature = "theory")]
+            Error::Nufft(e) => Some(e),
             _ => None,
         }
     }
@@ -68,5 +85,12 @@ impl core::error::Error for Error {
 impl From<ParamError> for Error {
     fn from(e: ParamError) -> Self {
         Error::Param(e)
+    }
+}
+
+#[cfg(feature = "theory")]
+impl From<linesample_nufft::NufftError> for Error {
+    fn from(e: linesample_nufft::NufftError) -> Self {
+        Error::Nufft(e)
     }
 }

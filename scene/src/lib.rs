@@ -34,7 +34,10 @@
 //!   `ao::world::World` and `direct_light::world::DlWorld` implement it;
 //! * `schema` (feature `toml`, no std needed): the scene file reader into
 //!   the model, one entry for every effect, errors naming the file, line,
-//!   column and field, every field an effect does not use an error.
+//!   column and field, every field an effect does not use an error;
+//! * `ao::theory` (feature `theory`: std and the NUFFT): the Fourier
+//!   coefficients of an AO pixel's integrand and the variance they predict
+//!   for a pattern's expected periodogram.
 //!
 //! They build on the kernel's shapes ([`linesample::world`]: spheres,
 //! rays, planes, Gaussians), its numeric core and its lane abstraction, so

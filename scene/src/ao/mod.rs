@@ -37,6 +37,8 @@ use linesample::ParamError;
 
 use crate::HalfPlane;
 
+#[cfg(feature = "theory")]
+pub mod theory;
 #[cfg(feature = "alloc")]
 pub mod world;
 
