@@ -61,7 +61,7 @@ pub fn main(a: &PaperArgs) -> Result<()> {
         &out,
         &opts,
         Box::new(|e, c, i, o, q| {
-            report::complete(e, &c, i, o, q)?;
+            report::complete(e, &c, i, o, q, &scenes::sections())?;
             Ok(())
         }),
     )

@@ -496,7 +496,7 @@ pub fn merge(a: &MergeRequest, config: serde_json::Value) -> Result<()> {
         &exp,
         a,
         Box::new(|e, c, i, o, q| {
-            report::complete(e, &c, i, o, q)?;
+            report::complete(e, &c, i, o, q, &scenes::sections())?;
             Ok(())
         }),
     )

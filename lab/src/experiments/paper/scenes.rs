@@ -41,3 +41,9 @@ pub const PARTS: [ScenePart; 3] = [
         section: |d, _| report::section_caustics(d),
     },
 ];
+
+/// The parts' report sections, in [`PARTS`]' order.
+#[must_use]
+pub fn sections() -> [report::SceneSection; 3] {
+    PARTS.map(|p| p.section)
+}

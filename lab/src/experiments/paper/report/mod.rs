@@ -149,8 +149,13 @@ th{background:#f3f3f3}code{background:#f5f5f5;padding:0 .2em}.run{background:#f7
 .spectra{display:flex;flex-wrap:wrap;gap:.8em}.sp{margin:0}.sp img{width:160px;image-rendering:pixelated;border:1px solid #ccc;margin-right:2px}\
 figcaption{font-size:.85em;color:#555}.summary{font-size:1.05em}nav a{margin-right:1em}";
 
-/// Writes every file of the report (one group) and prints a summary
-/// (unless `quiet`); returns the results.
+/// A scene part's report section: read from the run's folder (a note
+/// saying how to produce it when its files are missing).
+pub type SceneSection = fn(&Path, Mode) -> Result<String>;
+
+/// Writes every file of the report (one group), with the scene parts'
+/// `sections` after the paper's own, and prints a summary (unless
+/// `quiet`); returns the results.
 ///
 /// # Errors
 /// A drawing or I/O error.
@@ -160,6 +165,7 @@ pub fn complete(
     info: &RunInfo,
     out_dir: &Path,
     quiet: bool,
+    sections: &[SceneSection],
 ) -> Result<Results> {
     let cfg = exp.config();
     let res = exp.results(cells)?;
@@ -183,8 +189,8 @@ pub fn complete(
     body.push_str(&section_spectra(&mut out, exp, cells)?);
     body.push_str(&section_cost(&mut out, cfg, &res)?);
     body.push_str(&section_predictions(cfg, &res));
-    for part in &super::scenes::PARTS {
-        body.push_str(&(part.section)(out_dir, cfg.mode)?);
+    for section in sections {
+        body.push_str(&section(out_dir, cfg.mode)?);
     }
 
     let reproduce = format!(
