@@ -37,7 +37,6 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use linesample::Seed;
-use linesample_scene::caustic::Caustic;
 use linesample_scene::fluence::{splat_path2, splat_path3, Frame};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -62,89 +61,10 @@ pub const KIND: &str = "scene-caustic";
 /// Realisations per parallel task.
 const CHUNK: u64 = 16;
 
-/// Photon points or photon beams.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Estimator {
-    /// Sample the emission angles and the free-flight distance.
-    Points,
-    /// Sample the emission angles; integrate along the beam in closed form.
-    Beams,
-}
-
-impl Estimator {
-    /// The name in the output files.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Estimator::Points => "points",
-            Estimator::Beams => "beams",
-        }
-    }
-
-    /// The dimension of its samples in a `dims`-dimensional scene.
-    #[must_use]
-    pub fn sample_dims(self, dims: usize) -> usize {
-        match self {
-            Estimator::Points => dims,
-            Estimator::Beams => dims - 1,
-        }
-    }
-}
+pub use linesample_scene::caustic::world::{CausticWorld as World, Estimator};
 
 /// The scene file as read (so a resumed run refuses a changed file).
 pub type CausticSource = crate::scene::SceneSource;
-
-/// The kernel scene in its dimension.
-#[derive(Clone, Copy, Debug)]
-pub enum World {
-    Two(Caustic<2>),
-    Three(Caustic<3>),
-}
-
-impl World {
-    /// The scene's kernel form.
-    ///
-    /// # Errors
-    /// A parameter the kernel rejects.
-    pub fn new(scene: &CausticScene) -> crate::Result<Self> {
-        Ok(if scene.dims == 2 {
-            World::Two(scene.kernel::<2>()?)
-        } else {
-            World::Three(scene.kernel::<3>()?)
-        })
-    }
-
-    /// The mean of `est` over the samples `x` (each padded to 3 components:
-    /// `u` first, then `s` for points).
-    #[must_use]
-    pub fn estimate(&self, est: Estimator, x: &[[f64; 3]]) -> f64 {
-        let mut sum = 0.0;
-        match (self, est) {
-            (World::Two(c), Estimator::Beams) => {
-                for p in x {
-                    sum += c.beam_sample([p[0], 0.0]);
-                }
-            }
-            (World::Two(c), Estimator::Points) => {
-                for p in x {
-                    sum += c.point_sample([p[0], 0.0], p[1]);
-                }
-            }
-            (World::Three(c), Estimator::Beams) => {
-                for p in x {
-                    sum += c.beam_sample([p[0], p[1]]);
-                }
-            }
-            (World::Three(c), Estimator::Points) => {
-                for p in x {
-                    sum += c.point_sample([p[0], p[1]], p[2]);
-                }
-            }
-        }
-        sum / x.len().max(1) as f64
-    }
-}
 
 /// The most balanced power-of-two strata of `n = 2^m` in `k` dimensions.
 fn strata(n: usize, k: usize) -> Option<Vec<usize>> {

@@ -81,6 +81,9 @@ use linesample::world::{check_dim, check_finite, check_range};
 use linesample::world::{Ray, Sphere};
 use linesample::ParamError;
 
+#[cfg(feature = "alloc")]
+pub mod world;
+
 /// The largest number of internal reflections [`Caustic::new`] accepts.
 pub const MAX_INTERNAL_REFLECTIONS: u32 = 8;
 
