@@ -17,22 +17,6 @@ pub enum ShiftMode {
     Random,
 }
 
-/// Whether the direct-light and caustic scenes shift `sampler`'s pattern
-/// per realisation under `shift` (`None`: no `--shift` given). By default
-/// only the Sobol′ points are shifted, as these scenes always did (the
-/// other patterns are used as generated: a shift would move jittered
-/// strata off the light's edges, where a line function seen periodically
-/// jumps); `--shift random` shifts every pattern, `--shift none` none
-/// (Sobol′ stays randomised by its per-realisation Owen scramble).
-#[must_use]
-pub fn scene_shift(sampler: SceneSampler, shift: Option<ShiftMode>) -> bool {
-    match shift {
-        None => sampler == SceneSampler::Sobol,
-        Some(ShiftMode::Random) => true,
-        Some(ShiftMode::None) => false,
-    }
-}
-
 /// The sample primitive (`--primitive` of `spectrum` and `convergence`,
 /// and an estimator's primitive in a scene file), the density of the sample
 /// centres over the hemisphere, and the sample patterns of a scene's

@@ -63,9 +63,8 @@ fn imports(me: &str, text: &str, known: &BTreeSet<String>) -> BTreeSet<String> {
             }
         }
     };
-    let bytes: Vec<char> = text.chars().collect();
-    let s: String = bytes.iter().collect();
-    for (start, prefix) in [("crate::", 0usize), ("super::", 1)] {
+    let s = text.as_str();
+    for (start, relative) in [("crate::", false), ("super::", true)] {
         let mut from = 0;
         while let Some(i) = s[from..].find(start) {
             let at = from + i;
@@ -78,7 +77,7 @@ fn imports(me: &str, text: &str, known: &BTreeSet<String>) -> BTreeSet<String> {
             if !ok_before {
                 continue;
             }
-            let mut base: Vec<String> = if prefix == 0 {
+            let mut base: Vec<String> = if !relative {
                 Vec::new()
             } else {
                 let mut b: Vec<String> = me.split("::").map(String::from).collect();

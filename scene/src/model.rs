@@ -67,6 +67,18 @@ pub enum SceneSampler {
 }
 
 impl SceneSampler {
+    /// Whether this sampler's pattern gets a random toroidal shift per
+    /// realisation when the caller asks `shift` (`None`: the default). By
+    /// default only Sobol′ is shifted: the other patterns are random by
+    /// construction, and a shift would move jittered strata off a light's
+    /// edges, where a line function seen periodically jumps. Sobol′ without
+    /// a shift stays randomised by its per-realisation Owen scramble. The
+    /// direct-light and caustic scenes follow this rule.
+    #[must_use]
+    pub fn shifted(self, shift: Option<bool>) -> bool {
+        shift.unwrap_or(self == SceneSampler::Sobol)
+    }
+
     /// The name a scene file uses.
     #[must_use]
     pub fn name(self) -> &'static str {

@@ -1,5 +1,5 @@
-//! Three-vector helpers shared by the scene model and the effects (plain
-//! `f64` arithmetic, each one rounding per operation).
+//! Three-vector helpers shared by the scene model, the schema and the
+//! effects' worlds (plain `f64` arithmetic, one rounding per operation).
 
 /// `a + b`.
 #[inline]
@@ -19,10 +19,10 @@ pub(crate) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
     [a[0] * s, a[1] * s, a[2] * s]
 }
 
-/// `a·b`.
+/// `a·b` (the kernel's [`linesample::geom::dot`], by value).
 #[inline]
 pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    linesample::geom::dot(&a, &b)
 }
 
 /// `a × b`.

@@ -52,7 +52,7 @@ use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::CausticScene;
 use crate::scene::{EffectKind, SceneSampler};
 use crate::spec::MergeRequest;
-use crate::spec::{scene_shift, ShiftMode};
+use crate::spec::ShiftMode;
 use crate::streams::{Part, Stream};
 
 /// The study's runner kind.
@@ -93,7 +93,7 @@ pub enum Pattern {
 
 impl Pattern {
     /// `sampler`'s pattern of `n` points in `k` dimensions, shifted per
-    /// realisation as [`scene_shift`] says for `shift` (by default Sobol′
+    /// realisation as [`SceneSampler::shifted`] says for `shift` (by default Sobol′
     /// only).
     ///
     /// # Errors
@@ -112,7 +112,7 @@ impl Pattern {
                 format!("jittered in {k}D needs N a power of two (balanced strata), got {n}")
             })?);
         }
-        let shift = scene_shift(sampler, shift);
+        let shift = sampler.shifted(shift.map(|s| s == ShiftMode::Random));
         let err = |e: String| format!("{} in {k}D with N = {n}: {e}", sampler.name());
         Ok(match k {
             1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),
@@ -167,7 +167,7 @@ pub struct StudyConfig {
     /// Jittered beams per reference estimate.
     pub reference_beams: usize,
     pub reference_realisations: u64,
-    /// `--shift` (`None`: Sobol′ shifted, the others not; [`scene_shift`]).
+    /// `--shift` (`None`: Sobol′ shifted, the others not; [`SceneSampler::shifted`]).
     pub shift: Option<ShiftMode>,
 }
 

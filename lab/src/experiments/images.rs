@@ -17,14 +17,13 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
+use linesample_scene::Effect;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
+use super::samples::{self, SamplePattern};
 use crate::figures::image::{self, Color};
 use crate::io::{buffer, table};
-use linesample_scene::Effect;
-
-use super::samples::{self, SamplePattern};
 use crate::runner::{CellInfo, Ctx, Experiment};
 use crate::scene::{EffectKind, SceneSource};
 use crate::spec::ShiftMode;

@@ -17,9 +17,14 @@ use crate::spec::ShiftMode;
 
 /// A sampler's pattern of `N` points in one or two dimensions.
 pub struct SamplePattern {
-    two: Option<DynPattern<2>>,
-    one: Option<DynPattern<1>>,
+    pattern: Dims,
     n: usize,
+}
+
+/// The pattern in its dimension.
+enum Dims {
+    One(DynPattern<1>),
+    Two(DynPattern<2>),
 }
 
 impl SamplePattern {
@@ -39,21 +44,20 @@ impl SamplePattern {
         let s = Sampler::from(sampler);
         let err = |e: String| format!("{label} with N = {n}: {e}");
         let only_2d = matches!(sampler, SceneSampler::MultiJittered | SceneSampler::Cmj);
-        if dims == 1 && !only_2d {
-            let b = sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift).map_err(err)?;
-            Ok(SamplePattern {
-                two: None,
-                one: Some(b.pattern),
-                n,
-            })
+        let pattern = if dims == 1 && !only_2d {
+            Dims::One(
+                sampler::build::<1>(&PatternSpec::simple(s, 1, n), shift)
+                    .map_err(err)?
+                    .pattern,
+            )
         } else {
-            let b = sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift).map_err(err)?;
-            Ok(SamplePattern {
-                two: Some(b.pattern),
-                one: None,
-                n,
-            })
-        }
+            Dims::Two(
+                sampler::build::<2>(&PatternSpec::simple(s, 2, n), shift)
+                    .map_err(err)?
+                    .pattern,
+            )
+        };
+        Ok(SamplePattern { pattern, n })
     }
 
     /// The pattern of effect `E`'s estimator `est` (`None`: the effect's
@@ -85,13 +89,14 @@ impl SamplePattern {
         one: &mut Vec<[f32; 1]>,
     ) -> crate::Result<()> {
         out.resize(self.n, [0.5, 0.5]);
-        if let Some(p) = &self.two {
-            p.fill(seed, out)?;
-        } else if let Some(p) = &self.one {
-            one.resize(self.n, [0.0]);
-            p.fill(seed, one)?;
-            for (o, u) in out.iter_mut().zip(one.iter()) {
-                *o = [u[0], 0.5];
+        match &self.pattern {
+            Dims::Two(p) => p.fill(seed, out)?,
+            Dims::One(p) => {
+                one.resize(self.n, [0.0]);
+                p.fill(seed, one)?;
+                for (o, u) in out.iter_mut().zip(one.iter()) {
+                    *o = [u[0], 0.5];
+                }
             }
         }
         Ok(())

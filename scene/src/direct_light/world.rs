@@ -630,16 +630,14 @@ impl crate::Effect for DlWorld {
         }
     }
 
-    /// By default only Sobol′ is shifted: a shift would move a jittered
-    /// pattern's strata off the light's edges, where the line function of
-    /// lines along an edge, seen periodically, jumps (the two opposite
-    /// edges carry different line integrals), capping jittered lines at
-    /// `N⁻²`. The reference (jittered lines along an edge) is never shifted.
+    /// As [`SceneSampler::shifted`]: by default only Sobol′ (a shift would
+    /// move a jittered pattern's strata off the light's edges, where the
+    /// line function of lines along an edge, seen periodically, jumps: the
+    /// two opposite edges carry different line integrals, capping jittered
+    /// lines at `N⁻²`). The reference (jittered lines along an edge) is
+    /// never shifted.
     fn shifted(est: Option<&DlEstimator>, shift: Option<bool>) -> bool {
-        match est {
-            None => false,
-            Some(e) => shift.unwrap_or(e.sampler == SceneSampler::Sobol),
-        }
+        est.is_some_and(|e| e.sampler.shifted(shift))
     }
 
     fn estimate(
