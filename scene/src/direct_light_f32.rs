@@ -227,6 +227,7 @@
 //! [`DirectLight::line`]: super::direct_light::DirectLight::line
 
 use crate::direct_light::{QuadLight, Shadow, SHADOW_PLANES};
+use crate::vec3::dot;
 use linesample::num::lane::{load8, store8, F32Lane, LANES};
 use linesample::num::scalar::sqrt;
 use linesample::world::check_finite;
@@ -392,10 +393,6 @@ pub struct DirectLight32<const N: usize> {
     lam: [f32; 2],
     shadows: [Shadow32; N],
     m: usize,
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 impl<const N: usize> DirectLight32<N> {

@@ -53,7 +53,9 @@
 //! azimuths at one shading point, with no transcendental per sphere and no
 //! sorting, is [`super::occlusion_f32::AoPoint32`] (tested against this path).
 
+use crate::vec3::cross;
 use core::f64::consts::{FRAC_PI_2, PI};
+use linesample::geom::dot;
 use linesample::world::check_finite;
 use linesample::world::Sphere;
 use linesample::ParamError;
@@ -94,18 +96,6 @@ impl Occluded {
     }
 }
 
-fn dot(x: &[f64; 3], y: &[f64; 3]) -> f64 {
-    x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
-}
-
-fn cross(x: &[f64; 3], y: &[f64; 3]) -> [f64; 3] {
-    [
-        x[1] * y[2] - x[2] * y[1],
-        x[2] * y[0] - x[0] * y[2],
-        x[0] * y[1] - x[1] * y[0],
-    ]
-}
-
 fn unit(x: [f64; 3]) -> Option<[f64; 3]> {
     let l = linesample::num::scalar::sqrt(dot(&x, &x));
     (l > 0.0 && l.is_finite()).then(|| x.map(|c| c / l))
@@ -142,7 +132,7 @@ impl HalfPlane {
             p,
             n,
             a,
-            b: cross(&n, &a),
+            b: cross(n, a),
         })
     }
 

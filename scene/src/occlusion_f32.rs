@@ -230,6 +230,7 @@
 
 use crate::HalfPlane;
 use core::f64::consts::PI;
+use linesample::geom::dot;
 use linesample::num::lane::{load8, store8, F32Lane, LANES};
 use linesample::world::check_finite;
 use linesample::world::Sphere;
@@ -312,10 +313,6 @@ struct Prep {
     s: f32,
     /// `K = (s² + |q|² − R²)/(2s)`, so `κ = K/D`.
     k: f32,
-}
-
-fn dot(x: &[f64; 3], y: &[f64; 3]) -> f64 {
-    x[0] * y[0] + x[1] * y[1] + x[2] * y[2]
 }
 
 impl Prep {

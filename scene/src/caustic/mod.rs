@@ -75,7 +75,7 @@
 // `!(x > y)` is deliberate below: it also catches NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use linesample::geom::Direction;
+use linesample::geom::{dot, Direction};
 use linesample::num::scalar::sqrt;
 use linesample::world::{check_dim, check_finite, check_range};
 use linesample::world::{Ray, Sphere};
@@ -398,15 +398,6 @@ impl<const D: usize> PhotonPath<D> {
             self.len += 1;
         }
     }
-}
-
-#[inline]
-fn dot<const D: usize>(a: &[f64; D], b: &[f64; D]) -> f64 {
-    let mut s = 0.0;
-    for j in 0..D {
-        s += a[j] * b[j];
-    }
-    s
 }
 
 #[inline]

@@ -193,10 +193,7 @@ impl QuadLight {
         edge1: impl Into<[f64; 3]>,
         edge2: impl Into<[f64; 3]>,
     ) -> Result<Self, ParamError> {
-        let (corner, e1, e2) = (corner.into(), edge1.into(), edge2.into());
-        check_finite("corner", &corner)?;
-        check_finite("edge1", &e1)?;
-        check_finite("edge2", &e2)?;
+        let [corner, e1, e2] = finite_corner_edges(corner.into(), edge1.into(), edge2.into())?;
         let (l1, l2) = (norm(e1), norm(e2));
         if !(l1 > 0.0 && l2 > 0.0 && l1.is_finite() && l2.is_finite()) {
             return Err(ParamError::ZeroDirection);
@@ -337,10 +334,7 @@ impl Parallelogram {
         edge1: impl Into<[f64; 3]>,
         edge2: impl Into<[f64; 3]>,
     ) -> Result<Self, ParamError> {
-        let (corner, e1, e2) = (corner.into(), edge1.into(), edge2.into());
-        check_finite("corner", &corner)?;
-        check_finite("edge1", &e1)?;
-        check_finite("edge2", &e2)?;
+        let [corner, e1, e2] = finite_corner_edges(corner.into(), edge1.into(), edge2.into())?;
         let n = norm(cross(e1, e2));
         if !(n > 1e-12 * norm(e1) * norm(e2) && n.is_finite()) {
             return Err(ParamError::ZeroDirection);
@@ -376,6 +370,19 @@ impl Parallelogram {
     pub fn normal(&self) -> [f64; 3] {
         cross(self.edges[0], self.edges[1])
     }
+}
+
+/// `[corner, edge1, edge2]`, each checked finite by name: the common
+/// start of [`QuadLight::new`] and [`Parallelogram::new`].
+fn finite_corner_edges(
+    corner: [f64; 3],
+    edge1: [f64; 3],
+    edge2: [f64; 3],
+) -> Result<[[f64; 3]; 3], ParamError> {
+    check_finite("corner", &corner)?;
+    check_finite("edge1", &edge1)?;
+    check_finite("edge2", &edge2)?;
+    Ok([corner, edge1, edge2])
 }
 
 /// Most half-planes of one [`Shadow`]: a quadrilateral clipped by two planes.
