@@ -12,7 +12,7 @@ use common::*;
 use linesample::stats::RunningStats;
 use linesample::Seed;
 use linesample_lab::experiments::direct::{self, DlEstimator, DlWorld, Seen, REFERENCE};
-use linesample_lab::experiments::samples::SamplePattern;
+use linesample_lab::experiments::samples::{Buffers, SamplePattern};
 use linesample_lab::experiments::scene::SceneSource;
 use linesample_lab::scene::{self, Orientation, SceneSampler};
 
@@ -285,7 +285,7 @@ fn every_estimator_is_unbiased() {
     }
     let ests = direct::study_estimators(&sc, &[SceneSampler::Random, SceneSampler::Jittered]);
     assert_eq!(ests.len(), 12);
-    let (mut vals, mut one, mut scratch) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut vals, mut one, mut scratch) = (Vec::new(), Buffers::default(), Vec::new());
     let mut worst: f64 = 0.0;
     let mut biggest_se: f64 = 0.0;
     for (pi, &(x, y)) in pixels.iter().enumerate() {
@@ -296,13 +296,13 @@ fn every_estimator_is_unbiased() {
                         pat: &SamplePattern,
                         seed: Seed,
                         vals: &mut Vec<[f32; 2]>,
-                        one: &mut Vec<[f32; 1]>,
+                        one: &mut Buffers,
                         scratch: &mut Vec<(f64, f64)>| {
             pat.fill(seed, vals, one).unwrap();
             let mut r = seed.pcg(0x0c1e_47a7);
             world.estimate(&px, est, vals, &mut r, scratch).unwrap()
         };
-        let (_, rp) = SamplePattern::of::<DlWorld>(None, 4096, None).unwrap();
+        let (_, rp) = SamplePattern::of(&world, None, 4096, None).unwrap();
         let mut rs = RunningStats::new();
         for r in 0..64 {
             rs.push(estimate(
@@ -316,7 +316,7 @@ fn every_estimator_is_unbiased() {
         }
         let (rv, rse) = (rs.mean(), rs.mean_std_error());
         for (e, est) in ests.iter().enumerate() {
-            let (_, pat) = SamplePattern::of::<DlWorld>(Some(est), 16, None).unwrap();
+            let (_, pat) = SamplePattern::of(&world, Some(est), 16, None).unwrap();
             let mut s = RunningStats::new();
             for r in 0..20_000 {
                 s.push(estimate(
@@ -343,7 +343,7 @@ fn every_estimator_is_unbiased() {
         let f64e = ests[7];
         assert_eq!(f64e.name(), "lines-edge1");
         let f32e = DlEstimator { simd: true, ..f64e };
-        let (_, pat) = SamplePattern::of::<DlWorld>(Some(&f64e), 16, None).unwrap();
+        let (_, pat) = SamplePattern::of(&world, Some(&f64e), 16, None).unwrap();
         for r in 0..50 {
             let seed = Seed::new(13).realization(r);
             let a = estimate(&f64e, &pat, seed, &mut vals, &mut one, &mut scratch);

@@ -36,7 +36,7 @@ fn no_two_cells_or_realisations_share_a_stream() {
             pixel,
             seed: 7,
             shift: linesample_lab::cli::ShiftMode::Random,
-            ns: vec![16, 64, 256, 1024, 1001, 4096],
+            ns: vec![16, 64, 256, 1024, 1089, 4096],
             realisations: 64,
             rows: ao::all_rows(&sc),
             reference_lines: 4096,

@@ -28,10 +28,13 @@
 //!   compare; the volumetric caustic's own scene), with the vocabulary
 //!   (`Primitive`, `SceneSampler`, `Orientation`) deriving `serde` and
 //!   `clap::ValueEnum` behind the features of those names;
-//! * `Effect`: one trait every camera effect implements (the world built
-//!   from a scene, the shading point of a pixel, one estimate from a row's
-//!   samples and seed), like a pbrt-v4 integrator's `Li()`;
-//!   `ao::world::World` and `direct_light::world::DlWorld` implement it;
+//! * `Effect`: one trait every effect implements (the world built from its
+//!   scene, one estimate at a query from a row's samples and seed, the
+//!   reference estimator and each estimator's sampler, dimension and shift
+//!   rule), like a pbrt-v4 integrator's `Li()`; `ao::world::World`,
+//!   `direct_light::world::DlWorld` and `caustic::world::CausticWorld`
+//!   implement it, and `CameraEffect` adds the query a camera pixel sees
+//!   for the two camera effects;
 //! * `schema` (feature `toml`, no std needed): the scene file reader into
 //!   the model, one entry for every effect, errors naming the file, line,
 //!   column and field, every field an effect does not use an error;
@@ -85,7 +88,7 @@ pub mod schema;
 mod vec3;
 
 #[cfg(feature = "alloc")]
-pub use effect::Effect;
+pub use effect::{CameraEffect, Effect};
 pub use error::Error;
 pub use occlusion::HalfPlane;
 pub use occlusion_f32::AoPoint32;

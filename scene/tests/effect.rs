@@ -5,12 +5,15 @@ use linesample::Seed;
 use linesample_scene::ao::world::{ao_lines, EstimatorSpec, World};
 use linesample_scene::ao::CentrePdf;
 use linesample_scene::camera::Camera;
+use linesample_scene::caustic::world::{
+    CausticWorld, Estimator as CausticEstimator, Photons, REFERENCE,
+};
 use linesample_scene::direct_light::world::{DlEstimator, DlWorld};
 use linesample_scene::model::{
-    BoxDef, EffectParams, Estimators, LightDef, Orientation, Primitive, QuadDef, Scene,
-    SceneSampler, SphereDef,
+    BoxDef, CausticScene, EffectParams, Estimators, FluenceDef, LightDef, Orientation, Primitive,
+    QuadDef, Scene, SceneSampler, SphereDef,
 };
-use linesample_scene::{Effect, Error};
+use linesample_scene::{CameraEffect, Effect, Error};
 
 fn camera() -> Camera {
     Camera {
@@ -117,17 +120,17 @@ fn worlds_refuse_what_they_cannot_build() {
         radius: 1.0,
     }]);
     assert!(matches!(
-        DlWorld::from_scene(ao.clone(), 8, 8),
+        DlWorld::from_scene(ao.clone()),
         Err(Error::WrongEffect { .. })
     ));
     assert!(matches!(
-        World::from_scene(dl_scene(Vec::new()), 8, 8),
+        World::from_scene(dl_scene(Vec::new())),
         Err(Error::WrongEffect { .. })
     ));
     let mut dark = dl_scene(Vec::new());
     dark.light = None;
     assert!(matches!(
-        DlWorld::from_scene(dark, 8, 8),
+        DlWorld::from_scene(dark),
         Err(Error::WrongEffect { .. })
     ));
     let mut bad = ao.clone();
@@ -135,7 +138,7 @@ fn worlds_refuse_what_they_cannot_build() {
         centre: [0.0; 3],
         radius: 0.0,
     });
-    let e = World::from_scene(bad, 8, 8).unwrap_err();
+    let e = World::from_scene(bad).unwrap_err();
     assert!(
         matches!(
             e,
@@ -150,7 +153,7 @@ fn worlds_refuse_what_they_cannot_build() {
     assert!(e.to_string().starts_with("sphere[1]: "), "{e}");
     let mut flat = dl_scene(Vec::new());
     flat.quads[0].edge2 = flat.quads[0].edge1;
-    let e = DlWorld::from_scene(flat, 8, 8).unwrap_err();
+    let e = DlWorld::from_scene(flat).unwrap_err();
     assert!(
         matches!(
             e,
@@ -175,8 +178,8 @@ fn ao_estimates_through_the_trait() {
         centre: [0.0, -1.0, 0.0],
         radius: 1.0,
     };
-    let world = World::from_scene(ao_scene(vec![ground]), 32, 32).unwrap();
-    let px = Effect::pixel(&world, 16, 16).expect("the centre pixel sees the sphere");
+    let world = World::from_scene(ao_scene(vec![ground])).unwrap();
+    let px = CameraEffect::pixel(&world, 16, 16).expect("the centre pixel sees the sphere");
     let mut scratch = Effect::scratch(&world);
     let samples: Vec<[f32; 2]> = (0..16)
         .map(|k| [(k as f32 + 0.5) / 16.0, ((k * 7) % 16) as f32 / 16.0 + 0.01])
@@ -214,7 +217,7 @@ fn ao_estimates_through_the_trait() {
     };
     let scene = ao_scene(vec![ground, near]);
     let spheres = scene.kernel_spheres().unwrap();
-    let world = World::from_scene(scene, 32, 32).unwrap();
+    let world = World::from_scene(scene).unwrap();
     let px = world.pixel(16, 16).unwrap();
     let mut scratch = world.scratch();
     let lines = EstimatorSpec {
@@ -267,17 +270,23 @@ fn shift_rules() {
         Some(&dl(SceneSampler::Sobol)),
         Some(false)
     ));
-    assert_eq!(DlWorld::dims(&dl(SceneSampler::Jittered)), 1);
+    let dlw = DlWorld::from_scene(dl_scene(Vec::new())).unwrap();
+    let aow = World::from_scene(ao_scene(vec![SphereDef {
+        centre: [0.0, -100.0, 0.0],
+        radius: 100.0,
+    }]))
+    .unwrap();
+    assert_eq!(dlw.dims(&dl(SceneSampler::Jittered)), 1);
     assert_eq!(
-        DlWorld::dims(&DlEstimator {
+        dlw.dims(&DlEstimator {
             lines: Some(Orientation::Stratified),
             ..dl(SceneSampler::Jittered)
         }),
         2
     );
-    assert_eq!(World::dims(&ao), 2);
+    assert_eq!(aow.dims(&ao), 2);
     assert_eq!(
-        World::dims(&EstimatorSpec {
+        aow.dims(&EstimatorSpec {
             primitive: Primitive::Lines,
             ..ao
         }),
@@ -324,7 +333,7 @@ fn a_free_standing_quad_casts_its_shadow() {
     ];
     for (with_panel, hidden_want) in [(true, 1.0), (false, 0.0)] {
         let panels = if with_panel { vec![panel] } else { Vec::new() };
-        let world = DlWorld::from_scene(dl_scene(panels), 32, 32).unwrap();
+        let world = DlWorld::from_scene(dl_scene(panels)).unwrap();
         let px = world.surface_point([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.5; 3], Some(0));
         let hidden = world.hidden_fraction(&px, 64).unwrap();
         assert!(
@@ -402,4 +411,122 @@ fn unshadowed(a: f64, h: f64, m: usize) -> (f64, f64, f64) {
     let lines = 1.01 * 2.0 * a * step * step * g2 / 24.0;
     let points = 1.01 * 4.0 * a * a * step * step * f2 / 24.0;
     (exact, points, lines)
+}
+
+/// The shipped 2D caustic scene (`scenes/caustic-2d.toml`) in `dims`
+/// dimensions (3D: the same numbers with `z = 0`).
+fn caustic_scene(dims: usize) -> CausticScene {
+    CausticScene {
+        dims,
+        light: [0.0, 2.0, 0.0],
+        axis: [0.0, -1.0, 0.0],
+        cone_deg: 18.0,
+        glass_centre: [0.0; 3],
+        glass_radius: 0.5,
+        ior: 1.5,
+        fresnel: true,
+        internal_reflections: 2,
+        sigma_s: 0.5,
+        sigma_a: 0.1,
+        query_centre: [0.05, -1.0, 0.0],
+        query_radius: 0.2,
+        fluence: FluenceDef {
+            centre: [0.0, -0.4, 0.0],
+            size: [3.2, 3.2],
+            width: 8,
+            height: 8,
+            beams: 64,
+            thickness: (dims == 3).then_some(0.1),
+        },
+        samplers: vec![SceneSampler::Random, SceneSampler::Jittered],
+    }
+}
+
+/// The caustic through the trait: each estimator reads as many coordinates
+/// as [`Effect::dims`] says (points `D`, beams `D − 1`) and ignores the
+/// rest, its estimate is the mean of the kernel's photon of each sample,
+/// and only Sobol′ patterns shift by default (never the reference).
+#[test]
+fn caustic_estimates_through_the_trait() {
+    for dims in [2, 3] {
+        let world = CausticWorld::from_scene(caustic_scene(dims)).unwrap();
+        assert_eq!(CausticWorld::KIND, "volumetric-caustic");
+        let points = CausticEstimator {
+            photons: Photons::Points,
+            sampler: SceneSampler::Jittered,
+        };
+        let beams = CausticEstimator {
+            photons: Photons::Beams,
+            ..points
+        };
+        assert_eq!(world.dims(&points), dims);
+        assert_eq!(world.dims(&beams), dims - 1);
+        // A 64 × 64 midpoint grid of the coordinates each estimator reads;
+        // the unused ones set to `pad`.
+        let grid = |est: &CausticEstimator, pad: f32| -> Vec<[f32; 3]> {
+            let k = world.dims(est);
+            (0..4096)
+                .map(|i| {
+                    let c = [(i % 64) as f32, (i / 64) as f32, ((i * 37) % 64) as f32];
+                    core::array::from_fn(|j| if j < k { (c[j] + 0.5) / 64.0 } else { pad })
+                })
+                .collect()
+        };
+        world.scratch(); // the caustic needs none: `()`
+        for est in [points, beams] {
+            let a = world
+                .estimate(&(), &est, &grid(&est, 0.5), Seed::new(1), &mut ())
+                .unwrap();
+            let b = world
+                .estimate(&(), &est, &grid(&est, 0.9), Seed::new(2), &mut ())
+                .unwrap();
+            assert_eq!(
+                a,
+                b,
+                "{dims}D {}: unused coordinates changed it",
+                est.label()
+            );
+            assert!(a.is_finite() && a > 0.0, "{dims}D {}: {a}", est.label());
+        }
+        // The beams' estimate is the kernel's mean, in the same order.
+        let s = grid(&beams, 0.5);
+        let want = match dims {
+            2 => {
+                let k = caustic_scene(2).kernel::<2>().unwrap();
+                s.iter()
+                    .map(|p| k.beam_sample([f64::from(p[0]), 0.0]))
+                    .sum::<f64>()
+            }
+            _ => {
+                let k = caustic_scene(3).kernel::<3>().unwrap();
+                s.iter()
+                    .map(|p| k.beam_sample([f64::from(p[0]), f64::from(p[1])]))
+                    .sum::<f64>()
+            }
+        } / 4096.0;
+        let got = world
+            .estimate(&(), &beams, &s, Seed::new(3), &mut ())
+            .unwrap();
+        assert_eq!(got, want, "{dims}D beams");
+        assert_eq!(
+            world
+                .estimate(&(), &beams, &[], Seed::new(4), &mut ())
+                .unwrap(),
+            0.0
+        );
+    }
+    let sobol = CausticEstimator {
+        photons: Photons::Points,
+        sampler: SceneSampler::Sobol,
+    };
+    let jit = CausticEstimator {
+        sampler: SceneSampler::Jittered,
+        ..sobol
+    };
+    assert!(!CausticWorld::shifted(None, Some(true)));
+    assert!(CausticWorld::shifted(Some(&sobol), None));
+    assert!(!CausticWorld::shifted(Some(&jit), None));
+    assert!(CausticWorld::shifted(Some(&jit), Some(true)));
+    assert!(!CausticWorld::shifted(Some(&sobol), Some(false)));
+    assert_eq!(CausticWorld::reference(), REFERENCE);
 }

@@ -36,11 +36,11 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use linesample::Seed;
 use linesample_scene::fluence::{splat_path2, splat_path3, Frame};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::experiments::samples::{Buffers, SamplePattern};
 use crate::experiments::scene::rgb_png;
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
@@ -48,7 +48,6 @@ use crate::figures::multi::{self, Multi};
 use crate::fit::fit_sci;
 use crate::io::{self, buffer, table, FileGroup};
 use crate::runner::{RunInfo, RunOptions};
-use crate::sampler::{self, DynPattern, PatternSpec};
 use crate::scene::CausticScene;
 use crate::scene::{EffectKind, SceneSampler};
 use crate::spec::MergeRequest;
@@ -61,97 +60,10 @@ pub const KIND: &str = "scene-caustic";
 /// Realisations per parallel task.
 const CHUNK: u64 = 16;
 
-pub use linesample_scene::caustic::world::{CausticWorld as World, Estimator};
+pub use linesample_scene::caustic::world::{CausticWorld as World, Estimator, Photons};
 
 /// The scene file as read (so a resumed run refuses a changed file).
 pub type CausticSource = crate::scene::SceneSource;
-
-/// The most balanced power-of-two strata of `n = 2^m` in `k` dimensions.
-fn strata(n: usize, k: usize) -> Option<Vec<usize>> {
-    if k == 1 {
-        return Some(vec![n]);
-    }
-    if !n.is_power_of_two() {
-        return None;
-    }
-    let m = n.trailing_zeros() as usize;
-    // The finer axes last: for points that is the free-flight variable,
-    // whose band through Q is the narrowest feature.
-    Some(
-        (0..k)
-            .map(|j| 1usize << (m / k + usize::from(j >= k - m % k)))
-            .collect(),
-    )
-}
-
-/// A pattern of `k ∈ {1, 2, 3}` dimensions.
-pub enum Pattern {
-    One(DynPattern<1>),
-    Two(DynPattern<2>),
-    Three(DynPattern<3>),
-}
-
-impl Pattern {
-    /// `sampler`'s pattern of `n` points in `k` dimensions, shifted per
-    /// realisation as [`SceneSampler::shifted`] says for `shift` (by default Sobol′
-    /// only).
-    ///
-    /// # Errors
-    /// A count the sampler cannot make (jittered in 2D or 3D needs a power
-    /// of two).
-    pub fn new(
-        sampler: SceneSampler,
-        k: usize,
-        n: usize,
-        shift: Option<ShiftMode>,
-    ) -> crate::Result<Self> {
-        let s = crate::sampler::Sampler::from(sampler);
-        let mut spec = PatternSpec::simple(s, k, n);
-        if sampler == SceneSampler::Jittered {
-            spec.strata = Some(strata(n, k).ok_or_else(|| {
-                format!("jittered in {k}D needs N a power of two (balanced strata), got {n}")
-            })?);
-        }
-        let shift = sampler.shifted(shift.map(|s| s == ShiftMode::Random));
-        let err = |e: String| format!("{} in {k}D with N = {n}: {e}", sampler.name());
-        Ok(match k {
-            1 => Pattern::One(sampler::build::<1>(&spec, shift).map_err(err)?.pattern),
-            2 => Pattern::Two(sampler::build::<2>(&spec, shift).map_err(err)?.pattern),
-            3 => Pattern::Three(sampler::build::<3>(&spec, shift).map_err(err)?.pattern),
-            _ => return Err(format!("internal error: a {k}D pattern").into()),
-        })
-    }
-
-    /// Realisation `seed` into `out` (resized to `n`).
-    ///
-    /// # Errors
-    /// The pattern's error.
-    pub fn fill(&self, seed: Seed, n: usize, out: &mut Vec<[f64; 3]>) -> crate::Result<()> {
-        out.clear();
-        let e = |e: linesample::PatternError| e.to_string();
-        match self {
-            Pattern::One(p) => {
-                let mut v = buffer::filled(n, [0.0f32; 1], "samples")?;
-                p.fill(seed, &mut v).map_err(e)?;
-                out.extend(v.iter().map(|x| [f64::from(x[0]), 0.0, 0.0]));
-            }
-            Pattern::Two(p) => {
-                let mut v = buffer::filled(n, [0.0f32; 2], "samples")?;
-                p.fill(seed, &mut v).map_err(e)?;
-                out.extend(v.iter().map(|x| [f64::from(x[0]), f64::from(x[1]), 0.0]));
-            }
-            Pattern::Three(p) => {
-                let mut v = buffer::filled(n, [0.0f32; 3], "samples")?;
-                p.fill(seed, &mut v).map_err(e)?;
-                out.extend(
-                    v.iter()
-                        .map(|x| [f64::from(x[0]), f64::from(x[1]), f64::from(x[2])]),
-                );
-            }
-        }
-        Ok(())
-    }
-}
 
 // ---------------------------------------------------------------- study
 
@@ -162,8 +74,8 @@ pub struct StudyConfig {
     pub seed: u64,
     pub ns: Vec<usize>,
     pub realisations: u64,
-    /// `(estimator, sampler)` rows.
-    pub rows: Vec<(Estimator, SceneSampler)>,
+    /// The rows: photon points or beams, each with its sampler.
+    pub rows: Vec<Estimator>,
     /// Jittered beams per reference estimate.
     pub reference_beams: usize,
     pub reference_realisations: u64,
@@ -174,153 +86,60 @@ pub struct StudyConfig {
 /// One cell's statistics ([`study::StudyCell`]).
 pub type StudyCell = study::StudyCell;
 
-/// The study experiment ([`study::Study`] of [`CausticQuery`]).
-pub type Study = study::Study<CausticQuery>;
+/// The study experiment ([`study::Study`] of [`StudyConfig`]).
+pub type Study = study::Study<StudyConfig>;
 
-/// The caustic's side of the study: the kernel scene and its dimension.
-pub struct CausticQuery {
-    config: StudyConfig,
-    dims: usize,
-    world: World,
-    layout: study::Layout,
-}
-
-impl CausticQuery {
-    /// The experiment of `config`.
-    ///
-    /// # Errors
-    /// A bad scene or a count a sampler cannot make.
-    fn new(config: StudyConfig) -> crate::Result<Self> {
-        let scene = config.source.caustic()?;
-        let world = World::new(&scene)?;
-        let dims = scene.dims;
-        if config.ns.is_empty() || config.rows.is_empty() {
-            return Err("the study needs at least one N and one estimator".into());
-        }
-        Pattern::new(
-            SceneSampler::Jittered,
-            Estimator::Beams.sample_dims(dims),
-            config.reference_beams,
-            None,
-        )
-        .map_err(|e| format!("--reference-lines: {e}"))?;
-        for (est, sampler) in &config.rows {
-            for &n in &config.ns {
-                Pattern::new(*sampler, est.sample_dims(dims), n, config.shift)
-                    .map_err(|e| format!("--pixel-n: {} {e}", est.name()))?;
-            }
-        }
-        let layout = study::Layout {
-            queries: vec![study::Query {
-                label: String::new(),
-                stream: Stream::new(EffectKind::VolumetricCaustic, dims, Part::Study),
-            }],
-            rows: config
-                .rows
-                .iter()
-                .map(|(e, s)| format!("{} {}", e.name(), s.name()))
-                .collect(),
-            ns: config.ns.clone(),
-            realisations: config.realisations,
-            reference_n: config.reference_beams,
-            reference_realisations: config.reference_realisations,
-        };
-        Ok(CausticQuery {
-            config,
-            dims,
-            world,
-            layout,
-        })
-    }
-
-    /// The stream of cell `index` (0: the reference; then row `e` at the
-    /// `i`-th `N`, cell `1 + e·|ns| + i`).
-    #[must_use]
-    pub fn stream(&self, index: usize) -> Stream {
-        self.layout.stream(index)
-    }
-
-    /// The streams of every cell, in cell order.
-    #[must_use]
-    pub fn streams(&self) -> Vec<Stream> {
-        self.layout.streams()
-    }
-}
-
-impl study::StudyEffect for CausticQuery {
-    type Config = StudyConfig;
-    type Plan = (Estimator, usize, Pattern);
-    type Scratch = Vec<[f64; 3]>;
+impl study::StudySetup for StudyConfig {
+    type Effect = World;
     const CHUNK: u64 = CHUNK;
     const KIND: &'static str = KIND;
 
-    fn build(config: StudyConfig) -> crate::Result<Self> {
-        CausticQuery::new(config)
-    }
-
-    fn config(&self) -> &StudyConfig {
-        &self.config
-    }
-
-    fn layout(&self) -> &study::Layout {
-        &self.layout
-    }
-
     fn seed(&self) -> u64 {
-        self.config.seed
+        self.seed
     }
 
-    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
-        // The reference (jittered beams) is never shifted.
-        let (est, sampler, shift) = match row {
-            None => (Estimator::Beams, SceneSampler::Jittered, None),
-            Some(e) => {
-                let (est, sampler) = self.config.rows[e];
-                (est, sampler, self.config.shift)
-            }
+    /// The scene's one query, its ball `Q`, and the rows.
+    fn queries(&self) -> crate::Result<study::Queries<World>> {
+        let scene = self.source.caustic()?;
+        let world = World::new(&scene)?;
+        let query = study::Query {
+            label: String::new(),
+            stream: Stream::new(EffectKind::VolumetricCaustic, scene.dims, Part::Study),
         };
-        let pattern = Pattern::new(sampler, est.sample_dims(self.dims), n, shift)?;
-        Ok((est, n, pattern))
-    }
-
-    fn scratch(&self) -> crate::Result<Self::Scratch> {
-        Ok(Vec::new())
-    }
-
-    fn estimate(
-        &self,
-        _query: usize,
-        (est, n, pattern): &Self::Plan,
-        seed: Seed,
-        x: &mut Self::Scratch,
-    ) -> crate::Result<f64> {
-        if x.capacity() < *n {
-            *x = buffer::empty(*n, "samples")?;
-        }
-        pattern.fill(seed, *n, x)?;
-        Ok(self.world.estimate(*est, x))
+        study::Queries::new(
+            world,
+            vec![(query, ())],
+            self.rows.clone(),
+            self.shift,
+            study::Counts {
+                ns: self.ns.clone(),
+                realisations: self.realisations,
+                reference_n: self.reference_beams,
+                reference_realisations: self.reference_realisations,
+            },
+        )
     }
 }
 
 /// The expected slope of variance vs `N` for `est` with `sampler` in a
 /// `dims`-dimensional scene, and why; `None` where no rate is claimed.
 #[must_use]
-pub fn expected(dims: usize, est: Estimator, sampler: SceneSampler) -> Option<(f64, &'static str)> {
+pub fn expected(dims: usize, est: Photons, sampler: SceneSampler) -> Option<(f64, &'static str)> {
     match (sampler, est, dims) {
         (SceneSampler::Random, _, _) => Some((-1.0, "independent samples: N^-1")),
-        (SceneSampler::Jittered, Estimator::Points, 2) => Some((
+        (SceneSampler::Jittered, Photons::Points, 2) => Some((
             -1.5,
             "2D jitter across the edges of Q in (angle, distance): N^-(1+1/2)",
         )),
-        (SceneSampler::Jittered, Estimator::Points, _) => Some((
+        (SceneSampler::Jittered, Photons::Points, _) => Some((
             -4.0 / 3.0,
             "3D jitter across the surface of Q in (angles, distance): N^-(1+1/3)",
         )),
-        (SceneSampler::Jittered, Estimator::Beams, 2) => Some((
+        (SceneSampler::Jittered, Photons::Beams, 2) => Some((
             -3.0,
             "1D jitter of a continuous beam function with square-root edges at Q: N^-3 ln N",
         )),
-        (SceneSampler::Jittered, Estimator::Beams, _) => Some((
+        (SceneSampler::Jittered, Photons::Beams, _) => Some((
             -2.0,
             "2D jitter of a continuous beam function with square-root edges along curves: N^-2 ln N",
         )),
@@ -339,10 +158,10 @@ pub const TAIL: usize = 3;
 /// `N^−2 (A + c ln N)` (3D), whose local slope lies between the rate and
 /// the rate `+ 1/ln N` (all of it when the edge term dominates).
 #[must_use]
-pub fn effective(dims: usize, est: Estimator, sampler: SceneSampler, n: f64) -> Option<(f64, f64)> {
+pub fn effective(dims: usize, est: Photons, sampler: SceneSampler, n: f64) -> Option<(f64, f64)> {
     let (e, _) = expected(dims, est, sampler)?;
     Some(
-        if est == Estimator::Beams && sampler == SceneSampler::Jittered {
+        if est == Photons::Beams && sampler == SceneSampler::Jittered {
             (e, e + 1.0 / n.ln())
         } else {
             (e, e)
@@ -420,8 +239,8 @@ pub fn complete_study(
     dir: &Path,
     quiet: bool,
 ) -> crate::Result<()> {
-    let cfg = &exp.config;
-    let dims = exp.dims;
+    let cfg = exp.config();
+    let dims = exp.world.dimension();
     let (reference, stats) = study::analyse(&exp.layout, &cells, 0)?;
     let (rv, rse) = (reference.value, reference.se);
     let mut text = format!(
@@ -435,7 +254,8 @@ pub fn complete_study(
     let mut time_series = Vec::new();
     let mut failed = Vec::new();
     let nn = cfg.ns.len();
-    for (e, &(est, sampler)) in cfg.rows.iter().enumerate() {
+    for (e, row) in cfg.rows.iter().enumerate() {
+        let (est, sampler) = (row.photons, row.sampler);
         let rs = &stats[e * nn..(e + 1) * nn];
         for r in rs {
             rows.push(study::RowRecord::new(
@@ -689,10 +509,10 @@ pub fn run_image(
         m
     };
     let t = Instant::now();
-    let pattern = Pattern::new(SceneSampler::Jittered, k, m, None)?;
-    let mut x = buffer::empty(m, "fluence beams")?;
+    let pattern = SamplePattern::new(SceneSampler::Jittered, k, m, false, "fluence beams")?;
+    let mut x: Vec<[f32; 3]> = Vec::new();
     let image_seed = Stream::new(EffectKind::VolumetricCaustic, scene.dims, Part::Fluence);
-    pattern.fill(image_seed.seed(seed), m, &mut x)?;
+    pattern.fill(image_seed.seed(seed), &mut x, &mut Buffers::default())?;
     let st = scene.sigma_s + scene.sigma_a;
     let albedo = scene.sigma_s / st;
     const PARTS: usize = 16;
@@ -704,13 +524,14 @@ pub fn run_image(
             match &world {
                 World::Two(c) => {
                     for p in chunk {
-                        splat_path2(&mut grid, &f, &c.path([p[0], 0.0]), st);
+                        splat_path2(&mut grid, &f, &c.path([f64::from(p[0]), 0.0]), st);
                     }
                 }
                 World::Three(c) => {
                     let half = 0.5 * fl.thickness.unwrap_or(0.0);
                     for p in chunk {
-                        splat_path3(&mut grid, &f, &c.path([p[0], p[1]]), st, fl.centre[2], half);
+                        let u = [f64::from(p[0]), f64::from(p[1])];
+                        splat_path3(&mut grid, &f, &c.path(u), st, fl.centre[2], half);
                     }
                 }
             }
@@ -784,10 +605,12 @@ pub fn default_out(file: &Path) -> PathBuf {
 
 /// The study rows of a scene: its samplers × (points, beams).
 #[must_use]
-pub fn study_rows(samplers: &[SceneSampler]) -> Vec<(Estimator, SceneSampler)> {
+pub fn study_rows(samplers: &[SceneSampler]) -> Vec<Estimator> {
     samplers
         .iter()
-        .flat_map(|&s| [(Estimator::Points, s), (Estimator::Beams, s)])
+        .flat_map(|&sampler| {
+            [Photons::Points, Photons::Beams].map(|photons| Estimator { photons, sampler })
+        })
         .collect()
 }
 
@@ -803,7 +626,7 @@ pub fn run_all(
     seed: u64,
     ns: Vec<usize>,
     realisations: u64,
-    rows: Vec<(Estimator, SceneSampler)>,
+    rows: Vec<Estimator>,
     reference_beams: usize,
     reference_realisations: u64,
     shift: Option<ShiftMode>,

@@ -39,7 +39,6 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use linesample::Seed;
 pub use linesample_scene::direct_light::world::{
     estimators, image_estimators, orient_rng, DlEstimator, DlPixel, DlWorld, Seen, REFERENCE,
     SIMD_SHADOWS,
@@ -48,7 +47,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::experiments::images;
 use crate::experiments::images::rgb_png;
-use crate::experiments::samples::{self, SamplePattern};
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
 use crate::figures::multi::{self, Multi};
@@ -555,37 +553,35 @@ pub struct PixelConfig {
 /// One cell: a reference or a row's statistics ([`study::StudyCell`]).
 pub type PixelCell = study::StudyCell;
 
-/// The pixel-study experiment ([`study::Study`] of [`DlPixels`]).
-pub type PixelStudy = study::Study<DlPixels>;
+/// The pixel-study experiment ([`study::Study`] of [`PixelConfig`]).
+pub type PixelStudy = study::Study<PixelConfig>;
 
-/// The direct-light side of the pixel studies: the world and the shading
-/// points of the studied pixels.
-pub struct DlPixels {
-    config: PixelConfig,
-    world: DlWorld,
-    points: Vec<DlPixel>,
-    layout: study::Layout,
-}
+impl study::StudySetup for PixelConfig {
+    type Effect = DlWorld;
+    const CHUNK: u64 = CHUNK;
+    const KIND: &'static str = PIXEL_KIND;
 
-impl DlPixels {
-    /// The experiment of `config`.
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The shading points of the studied pixels, and the rows.
     ///
     /// # Errors
     /// A pixel outside the image or one that sees no surface.
-    fn new(config: PixelConfig) -> crate::Result<Self> {
-        let world = DlWorld::new(config.source.scene()?, config.width, config.height)?;
-        let mut points = Vec::new();
-        let mut queries = Vec::new();
-        for (label, x, y) in &config.pixels {
-            if *x >= config.width || *y >= config.height {
+    fn queries(&self) -> crate::Result<study::Queries<DlWorld>> {
+        let world = DlWorld::new(self.source.scene()?, self.width, self.height)?;
+        let mut at = Vec::new();
+        for (label, x, y) in &self.pixels {
+            if *x >= self.width || *y >= self.height {
                 return Err(format!(
                     "pixel {label} ({x}, {y}) is outside the {}x{} image",
-                    config.width, config.height
+                    self.width, self.height
                 )
                 .into());
             }
-            match world.pixel(*x, *y) {
-                Some(Seen::Surface(px)) => points.push(*px),
+            let px = match world.pixel(*x, *y) {
+                Some(Seen::Surface(px)) => *px,
                 Some(Seen::Light) => {
                     return Err(format!(
                         "pixel {label} ({x}, {y}) sees the light itself: nothing to estimate"
@@ -593,74 +589,25 @@ impl DlPixels {
                     .into())
                 }
                 None => return Err(format!("pixel {label} ({x}, {y}) sees no surface").into()),
-            }
-            queries.push(study::Query {
+            };
+            let query = study::Query {
                 label: label.clone(),
-                stream: stream(Part::Study).pixel(*x, *y, config.width),
-            });
+                stream: stream(Part::Study).pixel(*x, *y, self.width),
+            };
+            at.push((query, px));
         }
-        for est in &config.estimators {
-            for &n in &config.ns {
-                SamplePattern::of::<DlWorld>(Some(est), n, config.shift)?;
-            }
-        }
-        let layout = study::Layout {
-            queries,
-            rows: config.estimators.iter().map(DlEstimator::label).collect(),
-            ns: config.ns.clone(),
-            realisations: config.realisations,
-            reference_n: config.reference_lines,
-            reference_realisations: config.reference_realisations,
-        };
-        Ok(DlPixels {
-            config,
+        study::Queries::new(
             world,
-            points,
-            layout,
-        })
-    }
-}
-
-impl study::StudyEffect for DlPixels {
-    type Config = PixelConfig;
-    type Plan = samples::Plan<DlWorld>;
-    type Scratch = samples::Scratch<DlWorld>;
-    const CHUNK: u64 = CHUNK;
-    const KIND: &'static str = PIXEL_KIND;
-
-    fn build(config: PixelConfig) -> crate::Result<Self> {
-        DlPixels::new(config)
-    }
-
-    fn config(&self) -> &PixelConfig {
-        &self.config
-    }
-
-    fn layout(&self) -> &study::Layout {
-        &self.layout
-    }
-
-    fn seed(&self) -> u64 {
-        self.config.seed
-    }
-
-    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
-        let est = row.map(|e| &self.config.estimators[e]);
-        SamplePattern::of::<DlWorld>(est, n, self.config.shift)
-    }
-
-    fn scratch(&self) -> crate::Result<Self::Scratch> {
-        Ok(samples::scratch(&self.world))
-    }
-
-    fn estimate(
-        &self,
-        query: usize,
-        plan: &Self::Plan,
-        seed: Seed,
-        scratch: &mut Self::Scratch,
-    ) -> crate::Result<f64> {
-        samples::estimate(&self.world, &self.points[query], plan, seed, scratch)
+            at,
+            self.estimators.clone(),
+            self.shift,
+            study::Counts {
+                ns: self.ns.clone(),
+                realisations: self.realisations,
+                reference_n: self.reference_lines,
+                reference_realisations: self.reference_realisations,
+            },
+        )
     }
 }
 
@@ -708,7 +655,7 @@ pub fn complete_pixels(
     dir: &Path,
     quiet: bool,
 ) -> crate::Result<()> {
-    let cfg = &exp.config;
+    let cfg = exp.config();
     let layout = &exp.layout;
     let mut group = FileGroup::new();
     let mut rows = Vec::new();

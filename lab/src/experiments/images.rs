@@ -4,7 +4,7 @@
 //! equal-samples `N`; then one assembly (images, equal time, `images.csv`
 //! rows, the sheet) whatever the effect.
 //!
-//! An effect says only what is its own ([`Effect`]): its pixels, the
+//! An effect says only what is its own ([`Effect`](linesample_scene::Effect)): its pixels, the
 //! pattern of an estimator at `N`, one estimate (and the lab its name,
 //! [`ImageWorld`]). Cells
 //! are blocks of rows ([`row_blocks`]). Streams: the reference of pixel
@@ -17,7 +17,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use linesample::stats::RunningStats;
-use linesample_scene::Effect;
+use linesample_scene::CameraEffect;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -33,8 +33,8 @@ use crate::streams::{stream_rows, Part, Realisations, Stream};
 /// effect's first stream component. Everything else (the world built from
 /// the scene, its pixels, the estimators' patterns, one estimate, the
 /// per-pixel quantity kept beside the images) is the effect's own
-/// ([`Effect`]).
-pub trait ImageWorld: Effect<Estimator: Serialize + DeserializeOwned> {
+/// ([`Effect`](linesample_scene::Effect)).
+pub trait ImageWorld: CameraEffect<Estimator: Serialize + DeserializeOwned> {
     /// The image experiment's name (its state folder's kind).
     const EXPERIMENT: &'static str;
     /// The effect, the first component of every stream.
@@ -76,7 +76,9 @@ impl<W: ImageWorld> Images<W> {
     /// # Errors
     /// A scene that no longer parses, or geometry the kernel refuses.
     pub fn new(config: ImagesConfig<W::Estimator>) -> crate::Result<Self> {
-        let world = W::from_scene(config.source.scene()?, config.width, config.height)?;
+        let mut scene = config.source.scene()?;
+        (scene.camera.width, scene.camera.height) = (config.width, config.height);
+        let world = W::from_scene(scene)?;
         let cells = row_blocks(config.width, config.height, config.rows_per_cell);
         let twin = stream_rows(&config.estimators, W::twin);
         Ok(Images {
@@ -164,7 +166,7 @@ pub struct ImagesCell {
     pub reference: Vec<f32>,
     /// Its standard error.
     pub reference_se: Vec<f32>,
-    /// [`Effect::extra`] per pixel (empty when the effect has none).
+    /// [`Effect::extra`](linesample_scene::Effect::extra) per pixel (empty when the effect has none).
     pub extra: Vec<f32>,
     /// `images[e·L + l]`: estimator `e` at ladder `N_l`, per pixel.
     pub images: Vec<Vec<f32>>,
@@ -212,11 +214,11 @@ fn run_cell<W: ImageWorld>(
     let y1 = (y0 + rows).min(grid.height);
     let count = ((y1 - y0) * grid.width) as usize;
     let (ne, nl) = (cfg.estimators.len(), grid.ladder.len());
-    let reference = SamplePattern::of::<W>(None, grid.reference_lines, cfg.shift)?;
+    let reference = SamplePattern::of(world, None, grid.reference_lines, cfg.shift)?;
     let mut plans = Vec::with_capacity(ne * nl);
     for e in &cfg.estimators {
         for &n in grid.ladder {
-            plans.push(SamplePattern::of::<W>(Some(e), n, cfg.shift)?);
+            plans.push(SamplePattern::of(world, Some(e), n, cfg.shift)?);
         }
     }
     let at_n = grid.at_n()?;

@@ -40,7 +40,6 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 
 use crate::experiments::images;
-use crate::experiments::samples::{self, SamplePattern};
 use crate::experiments::scene_theory;
 use crate::experiments::study;
 use crate::experiments::{config_from, file_name, merge_to_files, run_to_files, OutputManifest};
@@ -377,12 +376,52 @@ struct Theory {
 /// The pixel study.
 pub struct PixelStudy {
     config: PixelConfig,
-    world: World,
-    px: Pixel,
-    layout: study::Layout,
+    study: study::Queries<World>,
     cells: Vec<CellInfo>,
     jobs: Vec<SpectrumJob>,
     theory: Option<Theory>,
+}
+
+impl study::StudySetup for PixelConfig {
+    type Effect = World;
+    const CHUNK: u64 = CHUNK;
+    const KIND: &'static str = PIXEL_KIND;
+
+    fn seed(&self) -> u64 {
+        self.seed
+    }
+
+    /// The pixel's shading point and the rows.
+    fn queries(&self) -> crate::Result<study::Queries<World>> {
+        let world = World::new(self.source.scene()?, self.width, self.height)?;
+        let (x, y) = self.pixel;
+        if x >= self.width || y >= self.height {
+            return Err(format!(
+                "--pixel {x},{y}: outside the {}x{} image",
+                self.width, self.height
+            )
+            .into());
+        }
+        let px = world
+            .pixel(x, y)
+            .ok_or_else(|| format!("--pixel {x},{y}: the camera ray misses every sphere"))?;
+        let query = study::Query {
+            label: String::new(),
+            stream: stream(Part::Study).pixel(x, y, self.width),
+        };
+        study::Queries::new(
+            world,
+            vec![(query, px)],
+            self.rows.clone(),
+            Some(self.shift),
+            study::Counts {
+                ns: self.ns.clone(),
+                realisations: self.realisations,
+                reference_n: self.reference_lines,
+                reference_realisations: self.reference_realisations,
+            },
+        )
+    }
 }
 
 impl PixelStudy {
@@ -392,34 +431,13 @@ impl PixelStudy {
     /// A scene that no longer parses, a pixel outside the image or one whose
     /// camera ray misses the scene.
     pub fn new(config: PixelConfig) -> crate::Result<Self> {
-        let world = World::new(config.source.scene()?, config.width, config.height)?;
-        let (x, y) = config.pixel;
-        if x >= config.width || y >= config.height {
-            return Err(format!(
-                "--pixel {x},{y}: outside the {}x{} image",
-                config.width, config.height
-            )
-            .into());
-        }
-        let px = world
-            .pixel(x, y)
-            .ok_or_else(|| format!("--pixel {x},{y}: the camera ray misses every sphere"))?;
-        let layout = study::Layout {
-            queries: vec![study::Query {
-                label: String::new(),
-                stream: stream(Part::Study).pixel(x, y, config.width),
-            }],
-            rows: config.rows.iter().map(EstimatorSpec::label).collect(),
-            ns: config.ns.clone(),
-            realisations: config.realisations,
-            reference_n: config.reference_lines,
-            reference_realisations: config.reference_realisations,
-        };
+        let study = study::StudySetup::queries(&config)?;
+        let (world, px, layout) = (&study.world, &study.at[0], &study.layout);
         let mut cells = layout.cells();
         let mut jobs = Vec::new();
         let mut theory = None;
         if config.spectrum_realisations > 0 {
-            let spectra = scene_theory::PixelSpectra::new(&world, &px)?;
+            let spectra = scene_theory::PixelSpectra::new(world, px)?;
             let mut lines_w = None;
             let weights = config
                 .rows
@@ -468,9 +486,7 @@ impl PixelStudy {
         }
         Ok(PixelStudy {
             config,
-            world,
-            px,
-            layout,
+            study,
             cells,
             jobs,
             theory,
@@ -500,7 +516,7 @@ impl PixelStudy {
         let parts = ctx.map_ordered(chunks, |c| {
             let r0 = c as u64 * CHUNK;
             let r1 = (r0 + CHUNK).min(cfg.spectrum_realisations);
-            let np = scene_theory::mean_periodogram(&spec, job.n, r0..r1, seed)?;
+            let np = scene_theory::mean_periodogram(&self.study.world, &spec, job.n, r0..r1, seed)?;
             ctx.advance(r1 - r0);
             Ok((np, (r1 - r0) as f64))
         })?;
@@ -539,7 +555,7 @@ impl PixelStudy {
     /// The stream of measured cell `index` (the reference or a row).
     #[must_use]
     pub fn stream(&self, index: usize) -> Stream {
-        self.layout.stream(index)
+        self.study.layout.stream(index)
     }
 
     /// The stream of spectral prediction job `j`.
@@ -554,52 +570,9 @@ impl PixelStudy {
     /// and `N`) and of the spectral predictions.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        let mut v = self.layout.streams();
+        let mut v = self.study.layout.streams();
         v.extend((0..self.jobs.len()).map(|j| self.spectrum_stream(j)));
         v
-    }
-}
-
-impl study::StudyEffect for PixelStudy {
-    type Config = PixelConfig;
-    type Plan = samples::Plan<World>;
-    type Scratch = samples::Scratch<World>;
-    const CHUNK: u64 = CHUNK;
-    const KIND: &'static str = PIXEL_KIND;
-
-    fn build(config: PixelConfig) -> crate::Result<Self> {
-        PixelStudy::new(config)
-    }
-
-    fn config(&self) -> &PixelConfig {
-        &self.config
-    }
-
-    fn layout(&self) -> &study::Layout {
-        &self.layout
-    }
-
-    fn seed(&self) -> u64 {
-        self.config.seed
-    }
-
-    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan> {
-        let spec = row.map(|e| &self.config.rows[e]);
-        SamplePattern::of::<World>(spec, n, Some(self.config.shift))
-    }
-
-    fn scratch(&self) -> crate::Result<Self::Scratch> {
-        Ok(samples::scratch(&self.world))
-    }
-
-    fn estimate(
-        &self,
-        _query: usize,
-        plan: &Self::Plan,
-        seed: linesample::Seed,
-        scratch: &mut Self::Scratch,
-    ) -> crate::Result<f64> {
-        samples::estimate(&self.world, &self.px, plan, seed, scratch)
     }
 }
 
@@ -619,10 +592,11 @@ impl Experiment for PixelStudy {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<PixelCell> {
-        if index >= self.layout.len() {
-            return self.spectrum_cell(index - self.layout.len(), ctx);
+        let measured = self.study.layout.len();
+        if index >= measured {
+            return self.spectrum_cell(index - measured, ctx);
         }
-        study::run_cell(self, &self.layout, index, self.config.seed, ctx).map(PixelCell::measured)
+        study::run_cell(&self.study, CHUNK, index, self.config.seed, ctx).map(PixelCell::measured)
     }
 }
 
@@ -797,11 +771,11 @@ pub fn complete_pixel(
     quiet: bool,
 ) -> crate::Result<()> {
     let cfg = &exp.config;
-    let measured: Vec<study::StudyCell> = cells[..exp.layout.len()]
+    let measured: Vec<study::StudyCell> = cells[..exp.study.layout.len()]
         .iter()
         .map(|c| c.measured.clone())
         .collect();
-    let (ref_stats, stats) = study::analyse(&exp.layout, &measured, 0)?;
+    let (ref_stats, stats) = study::analyse(&exp.study.layout, &measured, 0)?;
     let reference = Reference {
         value: ref_stats.value,
         se: ref_stats.se,
@@ -888,8 +862,8 @@ pub fn complete_pixel(
     let stem = format!("pixel-{x}-{y}");
     let doc = PixelDoc {
         pixel: cfg.pixel,
-        shading_point: exp.px.frame.point,
-        normal: exp.px.frame.normal,
+        shading_point: exp.study.at[0].frame.point,
+        normal: exp.study.at[0].frame.normal,
         reference,
         convergence: &rows,
         slopes: &slopes,
@@ -1020,7 +994,7 @@ fn print_pixel(cfg: &PixelConfig, doc: &PixelDoc<'_>, var_max: &[f64]) {
 /// none) and the drawn multi-jittered spectrum, from the prediction cells.
 fn predictions<'a>(exp: &PixelStudy, cells: &'a [PixelCell]) -> (Vec<f64>, Option<&'a Vec<f64>>) {
     let cfg = &exp.config;
-    let measured = exp.layout.len();
+    let measured = exp.study.layout.len();
     let mut predicted = vec![f64::NAN; measured - 1];
     let mut mj_spectrum = None;
     for (j, c) in cells.iter().enumerate().skip(measured) {

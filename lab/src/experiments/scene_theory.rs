@@ -8,7 +8,7 @@
 use linesample::Seed;
 use linesample_nufft::Plan;
 
-use super::samples::SamplePattern;
+use super::samples::{Buffers, SamplePattern};
 use crate::scene::Primitive;
 use crate::spec::ShiftMode;
 use linesample_scene::ao::world::{EstimatorSpec, World};
@@ -18,7 +18,7 @@ pub use linesample_scene::ao::theory::{predict, PixelSpectra, K1, K2, M, M_LINE}
 /// NUFFT tolerance of the patterns' periodograms.
 const TOL: f64 = 1e-9;
 
-/// The expected periodogram `⟨N·P(j)⟩` of the offsets of `spec` with `n`
+/// The expected periodogram `⟨N·P(j)⟩` of the offsets of `world`'s `spec` with `n`
 /// samples (toroidally shifted), over the realisations `realisations` of
 /// `seed`: on the 2D half grid of half-width [`K2`] for points and segments,
 /// on the 1D one of half-width [`K1`] for lines (their `u` offsets).
@@ -26,12 +26,13 @@ const TOL: f64 = 1e-9;
 /// # Errors
 /// A pattern or NUFFT error.
 pub fn mean_periodogram(
+    world: &World,
     spec: &EstimatorSpec,
     n: usize,
     realisations: std::ops::Range<u64>,
     seed: Seed,
 ) -> crate::Result<Vec<f64>> {
-    let (_, offsets) = SamplePattern::of::<World>(Some(spec), n, Some(ShiftMode::Random))?;
+    let (_, offsets) = SamplePattern::of(world, Some(spec), n, Some(ShiftMode::Random))?;
     if spec.primitive == Primitive::Lines {
         mean_np::<1>(&offsets, K1, realisations, seed, |q| [f64::from(q[0])])
     } else {
@@ -54,10 +55,10 @@ fn mean_np<const D: usize>(
     let mut plan = Plan::<D>::new(k, TOL).map_err(|e| format!("NUFFT plan: {e}"))?;
     let len = plan.half_len();
     let (mut re, mut im, mut acc) = (vec![0.0; len], vec![0.0; len], vec![0.0; len]);
-    let (mut uv, mut one) = (Vec::new(), Vec::new());
+    let (mut uv, mut buf): (Vec<[f32; 2]>, _) = (Vec::new(), Buffers::default());
     let mut pts = Vec::new();
     for r in realisations {
-        offsets.fill(seed.derive(&[r]), &mut uv, &mut one)?;
+        offsets.fill(seed.derive(&[r]), &mut uv, &mut buf)?;
         pts.clear();
         pts.extend(uv.iter().map(&point));
         plan.transform(&pts, &mut re, &mut im)

@@ -4,8 +4,9 @@
 //! realisations; then one analysis (bias, variance, fit, slope between the
 //! two largest `N`, time to a 1 % error, verdict) whatever the effect.
 //!
-//! An effect says only what is its own ([`StudyEffect`]): the pattern of a
-//! row at `N` and one estimate at a query from a seed. The cell layout
+//! An effect says only what is its own ([`Effect`]: one estimate at a
+//! query from a row's samples and a seed), and a configuration only how it
+//! builds the world, the queries and the rows ([`StudySetup`]). The cell layout
 //! ([`Layout`]), the streams ([`crate::streams`]), the measurement with its
 //! failure rule ([`run_cell`]), the statistics ([`analyse`]), the verdict
 //! ([`verdict`]) and the curves ([`convergence_series`], [`time_series`])
@@ -18,7 +19,6 @@
 //! `study`, estimator `e` and `N`; realisation `r` then derives `r`.
 
 use linesample::stats::RunningStats;
-use linesample::Seed;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -26,16 +26,17 @@ use crate::figures::multi::{Line, Series};
 use crate::fit::{fit_loglog, n_to_target, Fit};
 use crate::io::table;
 use crate::runner::{CellInfo, Ctx, Experiment};
+use crate::spec::ShiftMode;
 use crate::streams::{Part, Realisations, Stream};
+use linesample_scene::Effect;
 
-/// What a study needs from its effect.
-pub trait StudyEffect: Sync + Sized {
-    /// The study's configuration, every parameter resolved.
-    type Config: Serialize + DeserializeOwned + Clone;
-    /// A row's pattern at one `N`, ready to fill.
-    type Plan: Sync;
-    /// Per-task buffers.
-    type Scratch: Send;
+use super::samples::{self, SamplePattern};
+
+/// The study's side of a configuration: the effect it studies, and its
+/// world, queries and rows ([`Queries`]) built from the configuration.
+pub trait StudySetup: Serialize + DeserializeOwned + Clone + Sync {
+    /// The effect studied.
+    type Effect: Effect;
     /// Realisations per task: chunks are merged in order, so results do
     /// not depend on the thread count (nor, then, on this constant's
     /// relation to it).
@@ -43,91 +44,156 @@ pub trait StudyEffect: Sync + Sized {
     /// The experiment's name (its state folder's kind).
     const KIND: &'static str;
 
-    /// The effect's side of the study of `config`.
+    /// The run's seed.
+    fn seed(&self) -> u64;
+
+    /// The world, its queries and the rows.
     ///
     /// # Errors
     /// A scene that no longer parses, a query the effect cannot estimate
     /// at, or a count a sampler cannot make.
-    fn build(config: Self::Config) -> crate::Result<Self>;
-    /// The configuration.
-    fn config(&self) -> &Self::Config;
+    fn queries(&self) -> crate::Result<Queries<Self::Effect>>;
+}
+
+/// What every study of an effect measures: the effect's world, the queries
+/// it is estimated at, the estimator rows, `--shift`, and the cells.
+pub struct Queries<E: Effect> {
+    /// The effect's world.
+    pub world: E,
+    /// What each query's estimates need, in the order of
+    /// [`Layout::queries`].
+    pub at: Vec<E::Query>,
+    /// The estimator rows, in the order of [`Layout::rows`].
+    pub rows: Vec<E::Estimator>,
+    /// `--shift` (`None`: the effect's default).
+    pub shift: Option<ShiftMode>,
     /// The cells.
-    fn layout(&self) -> &Layout;
-    /// The run's seed.
-    fn seed(&self) -> u64;
+    pub layout: Layout,
+}
+
+/// How many estimates a study takes: the values of `N`, realisations per
+/// row and `N`, and the reference's `N` and realisations.
+#[derive(Clone, Debug)]
+pub struct Counts {
+    /// The values of `N`, in row order.
+    pub ns: Vec<usize>,
+    /// Realisations per row and `N`.
+    pub realisations: u64,
+    /// The reference's `N`.
+    pub reference_n: usize,
+    /// The reference's realisations.
+    pub reference_realisations: u64,
+}
+
+impl<E: Effect> Queries<E> {
+    /// The study of `rows` at the queries `at` (each with its label and
+    /// stream) of `world`, every pattern checked up front.
+    ///
+    /// # Errors
+    /// No `N` or no row, or a count a row's (or the reference's) sampler
+    /// cannot make.
+    pub fn new(
+        world: E,
+        at: Vec<(Query, E::Query)>,
+        rows: Vec<E::Estimator>,
+        shift: Option<ShiftMode>,
+        counts: Counts,
+    ) -> crate::Result<Self> {
+        if counts.ns.is_empty() || rows.is_empty() {
+            return Err("the study needs at least one N and one estimator".into());
+        }
+        SamplePattern::of(&world, None, counts.reference_n, shift)
+            .map_err(|e| format!("the reference: {e}"))?;
+        for est in &rows {
+            for &n in &counts.ns {
+                SamplePattern::of(&world, Some(est), n, shift)?;
+            }
+        }
+        let (queries, at) = at.into_iter().unzip();
+        let layout = Layout {
+            queries,
+            rows: rows.iter().map(E::label).collect(),
+            ns: counts.ns,
+            realisations: counts.realisations,
+            reference_n: counts.reference_n,
+            reference_realisations: counts.reference_realisations,
+        };
+        Ok(Queries {
+            world,
+            at,
+            rows,
+            shift,
+            layout,
+        })
+    }
 
     /// The pattern of row `row` at `n` (`None`: the reference's).
     ///
     /// # Errors
     /// A count the row's sampler cannot make.
-    fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<Self::Plan>;
-
-    /// Fresh buffers for one task.
-    ///
-    /// # Errors
-    /// An allocation failure.
-    fn scratch(&self) -> crate::Result<Self::Scratch>;
-
-    /// One estimate at query `query` with `plan` and realisation `seed`.
-    ///
-    /// # Errors
-    /// The kernel's error.
-    fn estimate(
-        &self,
-        query: usize,
-        plan: &Self::Plan,
-        seed: Seed,
-        scratch: &mut Self::Scratch,
-    ) -> crate::Result<f64>;
+    pub fn plan(&self, row: Option<usize>, n: usize) -> crate::Result<samples::Plan<E>> {
+        SamplePattern::of(&self.world, row.map(|e| &self.rows[e]), n, self.shift)
+    }
 }
 
 /// The convergence study of an effect: the [`Layout`]'s cells, each
-/// measured by [`run_cell`]. It dereferences to the effect.
-pub struct Study<E> {
-    effect: E,
+/// measured by [`run_cell`]. It dereferences to its [`Queries`].
+pub struct Study<C: StudySetup> {
+    config: C,
+    queries: Queries<C::Effect>,
     cells: Vec<CellInfo>,
 }
 
-impl<E: StudyEffect> Study<E> {
+impl<C: StudySetup> Study<C> {
     /// The study of `config`.
     ///
     /// # Errors
-    /// As [`StudyEffect::build`].
-    pub fn new(config: E::Config) -> crate::Result<Self> {
-        let effect = E::build(config)?;
-        let cells = effect.layout().cells();
-        Ok(Study { effect, cells })
+    /// As [`StudySetup::queries`].
+    pub fn new(config: C) -> crate::Result<Self> {
+        let queries = config.queries()?;
+        let cells = queries.layout.cells();
+        Ok(Study {
+            config,
+            queries,
+            cells,
+        })
+    }
+
+    /// The configuration.
+    #[must_use]
+    pub fn config(&self) -> &C {
+        &self.config
     }
 
     /// The stream of cell `index`.
     #[must_use]
     pub fn stream(&self, index: usize) -> Stream {
-        self.effect.layout().stream(index)
+        self.queries.layout.stream(index)
     }
 
     /// The streams of every cell, in cell order.
     #[must_use]
     pub fn streams(&self) -> Vec<Stream> {
-        self.effect.layout().streams()
+        self.queries.layout.streams()
     }
 }
 
-impl<E> std::ops::Deref for Study<E> {
-    type Target = E;
+impl<C: StudySetup> std::ops::Deref for Study<C> {
+    type Target = Queries<C::Effect>;
 
-    fn deref(&self) -> &E {
-        &self.effect
+    fn deref(&self) -> &Queries<C::Effect> {
+        &self.queries
     }
 }
 
-impl<E: StudyEffect> Experiment for Study<E> {
-    type Config = E::Config;
+impl<C: StudySetup> Experiment for Study<C> {
+    type Config = C;
     type Cell = StudyCell;
-    const KIND: &'static str = E::KIND;
+    const KIND: &'static str = C::KIND;
     const UNIT: &'static str = "realisations";
 
-    fn config(&self) -> &E::Config {
-        self.effect.config()
+    fn config(&self) -> &C {
+        &self.config
     }
 
     fn cells(&self) -> &[CellInfo] {
@@ -135,13 +201,7 @@ impl<E: StudyEffect> Experiment for Study<E> {
     }
 
     fn run_cell(&self, index: usize, ctx: &Ctx<'_>) -> crate::Result<StudyCell> {
-        run_cell(
-            &self.effect,
-            self.effect.layout(),
-            index,
-            self.effect.seed(),
-            ctx,
-        )
+        run_cell(&self.queries, C::CHUNK, index, self.config.seed(), ctx)
     }
 }
 
@@ -302,26 +362,28 @@ impl StudyCell {
 ///
 /// # Errors
 /// The reference's error, or a stop.
-pub fn run_cell<E: StudyEffect>(
-    effect: &E,
-    layout: &Layout,
+pub fn run_cell<E: Effect>(
+    study: &Queries<E>,
+    chunk: u64,
     index: usize,
     run: u64,
     ctx: &Ctx<'_>,
 ) -> crate::Result<StudyCell> {
+    let layout = &study.layout;
     let slot = layout.slot(index);
     let (row, n, total) = match slot.row {
         None => (None, layout.reference_n, layout.reference_realisations),
         Some((e, i)) => (Some(e), layout.ns[i], layout.realisations),
     };
     let seed = Realisations::of(&layout.stream(index), run);
-    let measured = effect.plan(row, n).and_then(|plan| {
+    let query = &study.at[slot.query];
+    let measured = study.plan(row, n).and_then(|plan| {
         ctx.realisations(
             total,
-            E::CHUNK,
-            || effect.scratch(),
+            chunk,
+            || Ok(samples::scratch(&study.world)),
             |scratch, r| {
-                let v = effect.estimate(slot.query, &plan, seed.at(r), scratch)?;
+                let v = samples::estimate(&study.world, query, &plan, seed.at(r), scratch)?;
                 if v.is_finite() {
                     Ok(v)
                 } else {

@@ -269,16 +269,16 @@ pub const REFERENCE: EstimatorSpec = EstimatorSpec {
 
 impl crate::Effect for World {
     const KIND: &'static str = "ambient-occlusion";
+    type Scene = Scene;
     type Estimator = EstimatorSpec;
-    type Pixel = Pixel;
+    type Query = Pixel;
+    /// `(u, v)`: the azimuth `φ = πu` and the centre angle (lines read `u`).
+    type Sample = [f32; 2];
     type Scratch = Vec<(f64, f64)>;
 
-    fn from_scene(scene: Scene, width: u32, height: u32) -> Result<Self, Error> {
-        World::new(scene, width, height)
-    }
-
-    fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
-        World::pixel(self, x, y)
+    fn from_scene(scene: Scene) -> Result<Self, Error> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        World::new(scene, w, h)
     }
 
     fn scratch(&self) -> Vec<(f64, f64)> {
@@ -303,7 +303,7 @@ impl crate::Effect for World {
 
     /// Lines need one coordinate (the azimuth); points and segments two
     /// (azimuth and centre angle).
-    fn dims(est: &EstimatorSpec) -> usize {
+    fn dims(&self, est: &EstimatorSpec) -> usize {
         if est.primitive == Primitive::Lines {
             1
         } else {
@@ -328,5 +328,11 @@ impl crate::Effect for World {
         scratch: &mut Vec<(f64, f64)>,
     ) -> Result<f64, Error> {
         World::estimate(self, px, est, samples, scratch)
+    }
+}
+
+impl crate::CameraEffect for World {
+    fn pixel(&self, x: u32, y: u32) -> Option<Pixel> {
+        World::pixel(self, x, y)
     }
 }

@@ -582,21 +582,18 @@ fn rem_pi(x: f64) -> f64 {
 
 impl crate::Effect for DlWorld {
     const KIND: &'static str = "direct-light";
+    type Scene = Scene;
     type Estimator = DlEstimator;
-    type Pixel = DlPixel;
+    type Query = DlPixel;
+    /// A point on the light (`u` along the first edge, `v` the second), or
+    /// a stratified line's `(direction φ = πu, offset v)`; lines of a given
+    /// or random orientation read their offset from `u` alone.
+    type Sample = [f32; 2];
     type Scratch = Vec<(f64, f64)>;
 
-    fn from_scene(scene: Scene, width: u32, height: u32) -> Result<Self, Error> {
-        DlWorld::new(scene, width, height)
-    }
-
-    /// Surface points only: a pixel that sees the light or nothing has no
-    /// irradiance to estimate.
-    fn pixel(&self, x: u32, y: u32) -> Option<DlPixel> {
-        match DlWorld::pixel(self, x, y) {
-            Some(Seen::Surface(px)) => Some(*px),
-            _ => None,
-        }
+    fn from_scene(scene: Scene) -> Result<Self, Error> {
+        let (w, h) = (scene.camera.width, scene.camera.height);
+        DlWorld::new(scene, w, h)
     }
 
     fn scratch(&self) -> Vec<(f64, f64)> {
@@ -622,7 +619,7 @@ impl crate::Effect for DlWorld {
     /// Points on the light and stratified lines (direction and offset from
     /// one pattern) need two coordinates; lines of a given orientation one
     /// (the offset).
-    fn dims(est: &DlEstimator) -> usize {
+    fn dims(&self, est: &DlEstimator) -> usize {
         if est.two_d() {
             2
         } else {
@@ -656,5 +653,16 @@ impl crate::Effect for DlWorld {
     /// ([`DlWorld::hidden_fraction`] with 64 lines).
     fn extra(&self, px: &DlPixel) -> Result<Option<f32>, Error> {
         Ok(Some(self.hidden_fraction(px, 64)? as f32))
+    }
+}
+
+impl crate::CameraEffect for DlWorld {
+    /// Surface points only: a pixel that sees the light or nothing has no
+    /// irradiance to estimate.
+    fn pixel(&self, x: u32, y: u32) -> Option<DlPixel> {
+        match DlWorld::pixel(self, x, y) {
+            Some(Seen::Surface(px)) => Some(*px),
+            _ => None,
+        }
     }
 }

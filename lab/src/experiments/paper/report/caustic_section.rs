@@ -8,14 +8,14 @@ use std::path::Path;
 use serde_json::Value;
 
 use super::esc;
-use crate::experiments::caustic::{consistent, expected, Estimator, SLOPE_SLACK};
+use crate::experiments::caustic::{consistent, expected, Photons, SLOPE_SLACK};
 use crate::fit::fit_sci;
 use crate::scene::SceneSampler;
 
-fn parse_est(s: &str) -> Option<Estimator> {
+fn parse_est(s: &str) -> Option<Photons> {
     match s {
-        "points" => Some(Estimator::Points),
-        "beams" => Some(Estimator::Beams),
+        "points" => Some(Photons::Points),
+        "beams" => Some(Photons::Beams),
         _ => None,
     }
 }
