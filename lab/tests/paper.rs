@@ -20,6 +20,7 @@
 mod common;
 
 use std::fs;
+use std::path::Path;
 
 use common::{csv_table, fails_with, lab, ok, stdout, TempDir};
 
@@ -91,15 +92,24 @@ fn rate<'a>(
         .unwrap_or_else(|| panic!("no rates row {primitive} {sampler} {integrand}"))
 }
 
-#[test]
-fn reduced_paper_end_to_end() {
-    let dir = TempDir::new("paper");
-    let o = lab(
-        &dir,
-        &["paper", "--mode", "reduced", "--out", "p", "--quiet"],
+/// Asserts that a rates.csv row's measured slope is within 5 SE of `theory`.
+fn assert_within_5_se(h: &[String], r: &[String], theory: f64) {
+    // The 95 % interval, widened to 5 SE so that this check keeps the suite's
+    // false-alarm budget.
+    let (lo, hi) = (
+        num(&r[col(h, "slope_ci_low")]),
+        num(&r[col(h, "slope_ci_high")]),
     );
-    ok(&o, "paper --mode reduced");
-    let out = dir.path().join("p");
+    let s = num(&r[col(h, "measured_slope")]);
+    let se = (hi - lo) / 2.0 / 1.96;
+    assert!(
+        (s - theory).abs() <= 5.0 * se,
+        "{theory} not within 5 SE of {s} (95 % interval [{lo}, {hi}]): {r:?}"
+    );
+}
+
+/// The run wrote every file at its fixed name.
+fn check_files_exist(out: &Path) {
     for f in [
         "index.html",
         "rates.csv",
@@ -109,29 +119,17 @@ fn reduced_paper_end_to_end() {
     ] {
         assert!(out.join(f).is_file(), "{f} missing");
     }
+}
 
-    // rates.csv: the columns, in order, then the numbers.
+/// rates.csv: the columns, in order, then the slopes and verdicts.
+fn check_rates(out: &Path) {
     let (_, h, rows) = csv_table(&out.join("rates.csv"));
     assert_eq!(&h[..RATES.len()], RATES);
-    // Within 5 SE of the theory (the 95 % interval, widened to 5 SE so that
-    // this check keeps the suite's false-alarm budget).
-    let within = |r: &[String], theory: f64| {
-        let (lo, hi) = (
-            num(&r[col(&h, "slope_ci_low")]),
-            num(&r[col(&h, "slope_ci_high")]),
-        );
-        let s = num(&r[col(&h, "measured_slope")]);
-        let se = (hi - lo) / 2.0 / 1.96;
-        assert!(
-            (s - theory).abs() <= 5.0 * se,
-            "{theory} not within 5 SE of {s} (95 % interval [{lo}, {hi}]): {r:?}"
-        );
-    };
     let random = rate(&h, &rows, "points", "random", "disk");
-    within(random, -1.0);
+    assert_within_5_se(&h, random, -1.0);
     assert_eq!(random[col(&h, "verdict")], "consistent");
     let jit = rate(&h, &rows, "points", "jittered", "disk");
-    within(jit, -1.5);
+    assert_within_5_se(&h, jit, -1.5);
     assert_eq!(jit[col(&h, "theory_slope")], "-1.5e0");
     assert_eq!(jit[col(&h, "verdict")], "consistent");
     let lines = rate(&h, &rows, "lines", "jittered", "disk");
@@ -150,6 +148,10 @@ fn reduced_paper_end_to_end() {
     for r in &edge[..2] {
         assert_eq!(r[col(&h, "verdict")], "consistent", "{r:?}");
     }
+}
+
+/// curves.csv: the straight edge's exact variance at every N, within 5 SE.
+fn check_edge_curves(out: &Path) {
     // Exact checks per N (1D jitter, one stratum straddles the edge): a fixed
     // edge at h has Var·N² = q(1 − q), q = frac(h·N); an edge uniform per
     // realisation averages it to 1/6. Within 5 SE at every N.
@@ -182,8 +184,10 @@ fn reduced_paper_end_to_end() {
         );
     }
     assert!(seen[0] >= 8 && seen[1] >= 8, "{seen:?}");
+}
 
-    // prediction.csv: every predicted row agrees (the rule is in the file).
+/// prediction.csv: every predicted row agrees, for both primitives and both integrands.
+fn check_prediction(out: &Path) {
     let (comments, h, rows) = csv_table(&out.join("prediction.csv"));
     assert_eq!(&h[..PREDICTION.len()], PREDICTION);
     assert!(comments[0].contains("Bonferroni"), "{comments:?}");
@@ -208,8 +212,10 @@ fn reduced_paper_end_to_end() {
             "no prediction for {p} {i}"
         );
     }
+}
 
-    // cost.csv: one row per N of every non-edge curve; evaluations = N.
+/// cost.csv: one row per N of every non-edge curve; evaluations = N.
+fn check_cost(out: &Path) {
     let (_, h, rows) = csv_table(&out.join("cost.csv"));
     assert_eq!(&h[..COST.len()], COST);
     assert!(rows.len() >= 8 * 4, "{} cost rows", rows.len());
@@ -218,8 +224,10 @@ fn reduced_paper_end_to_end() {
         assert!(num(&r[col(&h, "seconds_per_estimate")]) > 0.0);
         assert!(num(&r[col(&h, "rmse")]) > 0.0);
     }
+}
 
-    // The report links every figure and table it shows, and they exist.
+/// index.html links only existing local files; manifest.json names the experiment and mode.
+fn check_report(out: &Path) {
     let html = fs::read_to_string(out.join("index.html")).unwrap();
     assert!(
         html.contains("random toroidal shift"),
@@ -244,10 +252,12 @@ fn reduced_paper_end_to_end() {
         serde_json::from_str(&fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["experiment"], "paper");
     assert_eq!(manifest["config"]["mode"], "reduced");
+}
 
-    // A rerun resumes every cell and writes the same tables.
+/// A rerun into `p` resumes every cell and writes the same tables.
+fn check_rerun_resumes(dir: &TempDir, out: &Path) {
     let before = fs::read(out.join("rates.csv")).unwrap();
-    let o = lab(&dir, &["paper", "--mode", "reduced", "--out", "p"]);
+    let o = lab(dir, &["paper", "--mode", "reduced", "--out", "p"]);
     ok(&o, "rerun");
     assert!(
         stdout(&o).contains("already done, computing 0"),
@@ -255,6 +265,25 @@ fn reduced_paper_end_to_end() {
         stdout(&o)
     );
     assert_eq!(fs::read(out.join("rates.csv")).unwrap(), before);
+}
+
+/// One reduced paper run, then every check on its outputs and a resumed rerun.
+#[test]
+fn reduced_paper_end_to_end() {
+    let dir = TempDir::new("paper");
+    let o = lab(
+        &dir,
+        &["paper", "--mode", "reduced", "--out", "p", "--quiet"],
+    );
+    ok(&o, "paper --mode reduced");
+    let out = dir.path().join("p");
+    check_files_exist(&out);
+    check_rates(&out);
+    check_edge_curves(&out);
+    check_prediction(&out);
+    check_cost(&out);
+    check_report(&out);
+    check_rerun_resumes(&dir, &out);
 }
 
 #[test]

@@ -333,18 +333,61 @@ fn help_documents_the_formats() {
     }
 }
 
-#[test]
-fn nufft_matches_direct_to_its_tolerance() {
-    let dir = TempDir::new("spectrum-nufft");
-    for (dims, prim, tol) in [
-        ("2", "points", "1e-12"),
-        ("3", "lines", "1e-10"),
-        ("1", "points", "1e-6"),
-    ] {
-        let mut rows = Vec::new();
-        for method in ["direct", "nufft"] {
-            let out = format!("res/{dims}{prim}-{method}");
-            let mut args = vec![
+/// One ring of `spectrum-radial.csv`: radius, mean `N·P`, its SE, cell count.
+type Ring = (usize, f64, f64, u64);
+
+/// The rings of a direct run, then a NUFFT run at `tol`, of the jittered `dims`D `prim`.
+fn direct_and_nufft_rings(dir: &TempDir, dims: &str, prim: &str, tol: &str) -> Vec<Vec<Ring>> {
+    let mut rows = Vec::new();
+    for method in ["direct", "nufft"] {
+        let out = format!("res/{dims}{prim}-{method}");
+        let mut args = vec![
+            "spectrum",
+            "--sampler",
+            "jittered",
+            "--dims",
+            dims,
+            "-n",
+            "64",
+            "--k",
+            "9",
+            "--realizations",
+            "3",
+            "--primitive",
+            prim,
+            "--method",
+            method,
+            "--out",
+            &out,
+        ];
+        if method == "nufft" {
+            args.extend(["--tol", tol]);
+        }
+        let o = lab(dir, &args);
+        ok(&o, &format!("{args:?}"));
+        assert!(stdout(&o).contains(&format!("method {method}")));
+        rows.push(spectrum_rows(
+            &dir.path().join(format!("{out}/spectrum-radial.csv")),
+        ));
+    }
+    rows
+}
+
+/// `A`, the mean `‖F‖²` over the whole grid, from a direct run on a grid holding every ring.
+fn total_power(dir: &TempDir, dims: &str, prim: &str) -> f64 {
+    // The DC term N² plus every ring that meets [−9, 9]^d (up to ρ = round(√d·9)).
+    let d_eff: usize = if prim == "lines" {
+        dims.parse::<usize>().unwrap() - 1
+    } else {
+        dims.parse().unwrap()
+    };
+    let k_all = ((d_eff as f64).sqrt() * 9.0 + 0.5).ceil() as usize;
+    let out = format!("res/{dims}{prim}-direct-all");
+    let k_all_s = k_all.to_string();
+    ok(
+        &lab(
+            dir,
+            &[
                 "spectrum",
                 "--sampler",
                 "jittered",
@@ -353,95 +396,50 @@ fn nufft_matches_direct_to_its_tolerance() {
                 "-n",
                 "64",
                 "--k",
-                "9",
+                &k_all_s,
                 "--realizations",
                 "3",
                 "--primitive",
                 prim,
                 "--method",
-                method,
+                "direct",
                 "--out",
                 &out,
-            ];
-            if method == "nufft" {
-                args.extend(["--tol", tol]);
-            }
-            let o = lab(&dir, &args);
-            ok(&o, &format!("{args:?}"));
-            assert!(stdout(&o).contains(&format!("method {method}")));
-            rows.push(spectrum_rows(
-                &dir.path().join(format!("{out}/spectrum-radial.csv")),
-            ));
-        }
-        let tol: f64 = tol.parse().unwrap();
-        // The NUFFT's contract: relative l2 error ‖F̃ − F‖₂ ≤ ε‖F‖₂ per
-        // realisation over its half grid, so ≤ √2·ε over the full grid
-        // (conjugate symmetry). For a ring ρ of c cells, per realisation,
-        //   |Σ_ρ (|F̃|² − |F|²)| ≤ ‖F̃ − F‖_ρ (‖F̃‖_ρ + ‖F‖_ρ)
-        //                       ≤ ε'‖F‖ (2‖F‖_ρ + ε'‖F‖),   ε' = √2·ε,
-        // and averaged over the R realisations (Cauchy–Schwarz)
-        //   |m̃_ρ − m_ρ| ≤ ε' (2√(A·N c m_ρ) + ε' A)/(N c),
-        // with m_ρ the direct ring mean of |F|²/N (so mean ‖F‖_ρ² = N c m_ρ)
-        // and A ≥ mean ‖F‖² over the whole grid: the DC term N² plus every ring
-        // that meets the grid [−k, k]^d, up to ρ = round(√d·k), taken from a
-        // direct run on a grid that holds those rings.
-        let d_eff: usize = if prim == "lines" {
-            dims.parse::<usize>().unwrap() - 1
-        } else {
-            dims.parse().unwrap()
-        };
-        let k_all = ((d_eff as f64).sqrt() * 9.0 + 0.5).ceil() as usize;
-        let out = format!("res/{dims}{prim}-direct-all");
-        let k_all_s = k_all.to_string();
-        ok(
-            &lab(
-                &dir,
-                &[
-                    "spectrum",
-                    "--sampler",
-                    "jittered",
-                    "--dims",
-                    dims,
-                    "-n",
-                    "64",
-                    "--k",
-                    &k_all_s,
-                    "--realizations",
-                    "3",
-                    "--primitive",
-                    prim,
-                    "--method",
-                    "direct",
-                    "--out",
-                    &out,
-                ],
-            ),
-            "direct-all",
+            ],
+        ),
+        "direct-all",
+    );
+    let all = spectrum_rows(&dir.path().join(format!("{out}/spectrum-radial.csv")));
+    let n = 64.0;
+    n * n + n * all.iter().map(|r| r.3 as f64 * r.1).sum::<f64>()
+}
+
+/// Asserts every NUFFT ring mean within its bound of the direct run's.
+fn check_ring_means(dims: &str, prim: &str, tol: f64, rows: &[Vec<Ring>], a_total: f64) {
+    let n = 64.0;
+    let eps = 2f64.sqrt() * tol;
+    let mut worst: f64 = 0.0;
+    for (a, b) in rows[0].iter().zip(&rows[1]) {
+        assert_eq!((a.0, a.3), (b.0, b.3));
+        let c = a.3 as f64;
+        let bound = eps * (2.0 * (a_total * n * c * a.1).sqrt() + eps * a_total) / (n * c);
+        worst = worst.max((a.1 - b.1).abs() / bound);
+        assert!(
+            (a.1 - b.1).abs() <= bound,
+            "{dims}D {prim}, ring {}: direct {} vs nufft {} (bound {bound:e})",
+            a.0,
+            a.1,
+            b.1
         );
-        let all = spectrum_rows(&dir.path().join(format!("{out}/spectrum-radial.csv")));
-        let n = 64.0;
-        let a_total = n * n + n * all.iter().map(|r| r.3 as f64 * r.1).sum::<f64>();
-        let eps = 2f64.sqrt() * tol;
-        let mut worst: f64 = 0.0;
-        for (a, b) in rows[0].iter().zip(&rows[1]) {
-            assert_eq!((a.0, a.3), (b.0, b.3));
-            let c = a.3 as f64;
-            let bound = eps * (2.0 * (a_total * n * c * a.1).sqrt() + eps * a_total) / (n * c);
-            worst = worst.max((a.1 - b.1).abs() / bound);
-            assert!(
-                (a.1 - b.1).abs() <= bound,
-                "{dims}D {prim}, ring {}: direct {} vs nufft {} (bound {bound:e})",
-                a.0,
-                a.1,
-                b.1
-            );
-        }
-        println!("{dims}D {prim}, tol {tol:e}: max |Δ ring mean| / bound = {worst:.2e}");
     }
-    // --tol belongs to nufft; nufft does not do segments.
+    println!("{dims}D {prim}, tol {tol:e}: max |Δ ring mean| / bound = {worst:.2e}");
+}
+
+/// `--tol` belongs to nufft, nufft does not do segments, and `--tol 0` is refused.
+fn check_nufft_option_errors(dir: &TempDir) {
     fails_with(
         &lab(
-            &dir,
+            dir,
             &[
                 "spectrum",
                 "--sampler",
@@ -457,7 +455,7 @@ fn nufft_matches_direct_to_its_tolerance() {
     );
     fails_with(
         &lab(
-            &dir,
+            dir,
             &[
                 "spectrum",
                 "--sampler",
@@ -475,7 +473,7 @@ fn nufft_matches_direct_to_its_tolerance() {
     );
     fails_with(
         &lab(
-            &dir,
+            dir,
             &[
                 "spectrum",
                 "--sampler",
@@ -491,6 +489,35 @@ fn nufft_matches_direct_to_its_tolerance() {
         "--tol 0",
         "tol 0",
     );
+}
+
+/// NUFFT ring means match direct ones within the bound its tolerance implies, in 1D–3D.
+#[test]
+fn nufft_matches_direct_to_its_tolerance() {
+    let dir = TempDir::new("spectrum-nufft");
+    for (dims, prim, tol) in [
+        ("2", "points", "1e-12"),
+        ("3", "lines", "1e-10"),
+        ("1", "points", "1e-6"),
+    ] {
+        let rows = direct_and_nufft_rings(&dir, dims, prim, tol);
+        let tol: f64 = tol.parse().unwrap();
+        // The NUFFT's contract: relative l2 error ‖F̃ − F‖₂ ≤ ε‖F‖₂ per
+        // realisation over its half grid, so ≤ √2·ε over the full grid
+        // (conjugate symmetry). For a ring ρ of c cells, per realisation,
+        //   |Σ_ρ (|F̃|² − |F|²)| ≤ ‖F̃ − F‖_ρ (‖F̃‖_ρ + ‖F‖_ρ)
+        //                       ≤ ε'‖F‖ (2‖F‖_ρ + ε'‖F‖),   ε' = √2·ε,
+        // and averaged over the R realisations (Cauchy–Schwarz)
+        //   |m̃_ρ − m_ρ| ≤ ε' (2√(A·N c m_ρ) + ε' A)/(N c),
+        // with m_ρ the direct ring mean of |F|²/N (so mean ‖F‖_ρ² = N c m_ρ)
+        // and A ≥ mean ‖F‖² over the whole grid: the DC term N² plus every ring
+        // that meets the grid [−k, k]^d, up to ρ = round(√d·k), taken from a
+        // direct run on a grid that holds those rings.
+        let a_total = total_power(&dir, dims, prim);
+        check_ring_means(dims, prim, tol, &rows, a_total);
+    }
+    // --tol belongs to nufft; nufft does not do segments.
+    check_nufft_option_errors(&dir);
     no_tmp_files(&dir);
 }
 

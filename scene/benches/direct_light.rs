@@ -126,7 +126,19 @@ fn receivers(faces: &[(Parallelogram, [f64; 3])], rng: &mut Pcg32) -> Vec<Receiv
     out
 }
 
-fn direct_light(c: &mut Criterion) {
+/// The bench's lines: stratified directions (`f32` and `f64`) and, per
+/// receiver, random offsets in the light's offset range.
+struct Lines {
+    cs: Vec<f32>,
+    ss: Vec<f32>,
+    cs64: Vec<f64>,
+    ss64: Vec<f64>,
+    offsets: Vec<Vec<f32>>,
+}
+
+/// The light, the receivers with their shadows on it, and the generator
+/// the lines' offsets continue from.
+fn scene() -> (QuadLight, Vec<Receiver>, Vec<Vec<Shadow>>, Pcg32) {
     let light = QuadLight::new([-0.24, 1.98, -0.22], [0.47, 0.0, 0.0], [0.0, 0.0, 0.38]).unwrap();
     let mut faces = box_faces([0.33, 0.0, 0.30], [0.6, 0.6, 0.6], -17.0);
     faces.extend(box_faces([-0.33, 0.0, -0.28], [0.6, 1.2, 0.6], 17.0));
@@ -141,17 +153,11 @@ fn direct_light(c: &mut Criterion) {
             s
         })
         .collect();
-    let dls: Vec<DirectLight> = recs
-        .iter()
-        .zip(&shadows)
-        .map(|(r, s)| DirectLight::new(&light, r.x, r.n, s).unwrap())
-        .collect();
-    let dl32s: Vec<DirectLight32<CAP>> = recs
-        .iter()
-        .zip(&shadows)
-        .map(|(r, s)| DirectLight32::new(&light, r.x, r.n, s).unwrap())
-        .collect();
-    // Lines: stratified directions, random offsets in the offset range.
+    (light, recs, shadows, rng)
+}
+
+/// The [`Lines`] of `light`, offsets drawn from `rng`.
+fn lines(light: &QuadLight, rng: &mut Pcg32) -> Lines {
     let mut cs = vec![0.0f32; LINES];
     let mut ss = vec![0.0f32; LINES];
     let mut cs64 = vec![0.0f64; LINES];
@@ -172,27 +178,55 @@ fn direct_light(c: &mut Criterion) {
                 .collect()
         })
         .collect();
-    let max_scratch = shadows.iter().map(Vec::len).max().unwrap_or(0);
-    let mut scratch = vec![(0.0, 0.0); max_scratch];
-    let line64 = |dl: &DirectLight, c: f64, s: f64, o: f64, scratch: &mut [(f64, f64)]| match light
-        .chord(c, s, o)
-    {
+    Lines {
+        cs,
+        ss,
+        cs64,
+        ss64,
+        offsets,
+    }
+}
+
+/// The `f64` path of one line: `QuadLight::chord` + `DirectLight::line`.
+fn line64(
+    light: &QuadLight,
+    dl: &DirectLight,
+    c: f64,
+    s: f64,
+    o: f64,
+    scratch: &mut [(f64, f64)],
+) -> f64 {
+    match light.chord(c, s, o) {
         Some(ch) => dl.line(&ch, scratch).unwrap(),
         None => 0.0,
-    };
+    }
+}
 
-    // Accuracy over the bench's lines.
+/// Prints the largest `|f32 − f64|` over the bench's lines, relative to
+/// the largest value.
+fn accuracy(
+    light: &QuadLight,
+    shadows: &[Vec<Shadow>],
+    dls: &[DirectLight],
+    dl32s: &[DirectLight32<CAP>],
+    l: &Lines,
+) {
+    let max_scratch = shadows.iter().map(Vec::len).max().unwrap_or(0);
+    let mut scratch = vec![(0.0, 0.0); max_scratch];
     let mut out = vec![0.0f32; LINES];
     let (mut worst, mut largest, mut hits) = (0.0f64, 0.0f64, 0usize);
-    for r in 0..RECEIVERS {
-        dl32s[r]
-            .line_batch_f32(&cs, &ss, &offsets[r], &mut out)
+    for ((dl, dl32), offsets) in dls.iter().zip(dl32s).zip(&l.offsets) {
+        dl32.line_batch_f32(&l.cs, &l.ss, offsets, &mut out)
             .unwrap();
-        for k in 0..LINES {
-            let (c, s, o) = (f64::from(cs[k]), f64::from(ss[k]), f64::from(offsets[r][k]));
+        for (k, &v) in out.iter().enumerate() {
+            let (c, s, o) = (
+                f64::from(l.cs[k]),
+                f64::from(l.ss[k]),
+                f64::from(offsets[k]),
+            );
             let len = c.hypot(s);
-            let want = line64(&dls[r], c / len, s / len, o / len, &mut scratch);
-            worst = worst.max((f64::from(out[k]) - want).abs());
+            let want = line64(light, dl, c / len, s / len, o / len, &mut scratch);
+            worst = worst.max((f64::from(v) - want).abs());
             largest = largest.max(want);
             hits += usize::from(want > 0.0);
         }
@@ -204,7 +238,20 @@ fn direct_light(c: &mut Criterion) {
         100.0 * hits as f64 / (RECEIVERS * LINES) as f64,
         worst / largest
     );
+}
 
+/// The visibility + integral kernel, lines per second: `f64`, the `f32`
+/// scalar twin and the `f32` SIMD batch.
+fn line_kernel(
+    c: &mut Criterion,
+    light: &QuadLight,
+    max_scratch: usize,
+    dls: &[DirectLight],
+    dl32s: &[DirectLight32<CAP>],
+    l: &Lines,
+) {
+    let mut scratch = vec![(0.0, 0.0); max_scratch];
+    let mut out = vec![0.0f32; LINES];
     let total = (RECEIVERS * LINES) as u64;
     let mut g = c.benchmark_group("direct light line kernel (visibility + integral)");
     g.throughput(Throughput::Elements(total));
@@ -213,15 +260,9 @@ fn direct_light(c: &mut Criterion) {
         |b| {
             b.iter(|| {
                 let mut sum = 0.0;
-                for r in 0..RECEIVERS {
-                    for k in 0..LINES {
-                        sum += line64(
-                            &dls[r],
-                            black_box(cs64[k]),
-                            ss64[k],
-                            f64::from(offsets[r][k]),
-                            &mut scratch,
-                        );
+                for (dl, offsets) in dls.iter().zip(&l.offsets) {
+                    for ((&c, &s), &o) in l.cs64.iter().zip(&l.ss64).zip(offsets) {
+                        sum += line64(light, dl, black_box(c), s, f64::from(o), &mut scratch);
                     }
                 }
                 sum
@@ -232,9 +273,8 @@ fn direct_light(c: &mut Criterion) {
         BenchmarkId::new("f32 scalar twin (line_batch_scalar_f32)", total),
         |b| {
             b.iter(|| {
-                for r in 0..RECEIVERS {
-                    dl32s[r]
-                        .line_batch_scalar_f32(black_box(&cs), &ss, &offsets[r], &mut out)
+                for (dl32, offsets) in dl32s.iter().zip(&l.offsets) {
+                    dl32.line_batch_scalar_f32(black_box(&l.cs), &l.ss, offsets, &mut out)
                         .unwrap();
                 }
                 out[LINES - 1]
@@ -245,9 +285,8 @@ fn direct_light(c: &mut Criterion) {
         BenchmarkId::new("f32 SIMD batch (line_batch_f32)", total),
         |b| {
             b.iter(|| {
-                for r in 0..RECEIVERS {
-                    dl32s[r]
-                        .line_batch_f32(black_box(&cs), &ss, &offsets[r], &mut out)
+                for (dl32, offsets) in dl32s.iter().zip(&l.offsets) {
+                    dl32.line_batch_f32(black_box(&l.cs), &l.ss, offsets, &mut out)
                         .unwrap();
                 }
                 out[LINES - 1]
@@ -255,16 +294,19 @@ fn direct_light(c: &mut Criterion) {
         },
     );
     g.finish();
+}
 
+/// The per-receiver set-up, receivers per second.
+fn per_receiver(c: &mut Criterion, light: &QuadLight, recs: &[Receiver]) {
     let mut g = c.benchmark_group("direct light set-up per receiver");
     g.throughput(Throughput::Elements(RECEIVERS as u64));
     let mut buf = vec![Shadow::EMPTY; 12];
     g.bench_function("Shadow::project_all + DirectLight::new", |b| {
         b.iter(|| {
             let mut h = 0.0;
-            for r in &recs {
-                let k = Shadow::project_all(&light, black_box(r.x), &r.faces, &mut buf).unwrap();
-                h += DirectLight::new(&light, r.x, r.n, &buf[..k])
+            for r in recs {
+                let k = Shadow::project_all(light, black_box(r.x), &r.faces, &mut buf).unwrap();
+                h += DirectLight::new(light, r.x, r.n, &buf[..k])
                     .unwrap()
                     .height();
             }
@@ -276,12 +318,11 @@ fn direct_light(c: &mut Criterion) {
         |b| {
             b.iter(|| {
                 let mut m = 0usize;
-                for r in &recs {
-                    let k =
-                        Shadow::project_all(&light, black_box(r.x), &r.faces, &mut buf).unwrap();
-                    let dl = DirectLight::new(&light, r.x, r.n, &buf[..k]).unwrap();
+                for r in recs {
+                    let k = Shadow::project_all(light, black_box(r.x), &r.faces, &mut buf).unwrap();
+                    let dl = DirectLight::new(light, r.x, r.n, &buf[..k]).unwrap();
                     m += dl.shadows().len();
-                    m += DirectLight32::<CAP>::new(&light, r.x, r.n, &buf[..k])
+                    m += DirectLight32::<CAP>::new(light, r.x, r.n, &buf[..k])
                         .unwrap()
                         .shadow_count();
                 }
@@ -290,6 +331,26 @@ fn direct_light(c: &mut Criterion) {
         },
     );
     g.finish();
+}
+
+/// Every group, in order, after the accuracy line.
+fn direct_light(c: &mut Criterion) {
+    let (light, recs, shadows, mut rng) = scene();
+    let dls: Vec<DirectLight> = recs
+        .iter()
+        .zip(&shadows)
+        .map(|(r, s)| DirectLight::new(&light, r.x, r.n, s).unwrap())
+        .collect();
+    let dl32s: Vec<DirectLight32<CAP>> = recs
+        .iter()
+        .zip(&shadows)
+        .map(|(r, s)| DirectLight32::new(&light, r.x, r.n, s).unwrap())
+        .collect();
+    let l = lines(&light, &mut rng);
+    accuracy(&light, &shadows, &dls, &dl32s, &l);
+    let max_scratch = shadows.iter().map(Vec::len).max().unwrap_or(0);
+    line_kernel(c, &light, max_scratch, &dls, &dl32s, &l);
+    per_receiver(c, &light, &recs);
 }
 
 criterion_group!(benches, direct_light);

@@ -30,7 +30,21 @@ mod ao_scene;
 
 const N: usize = 4096;
 
-fn occlusion(c: &mut Criterion) {
+/// The bench's inputs: the scene, the shading point and frame, the `N`
+/// half-planes at `φ = π(k + ½)/N`, the same azimuths in `f32` and the
+/// segments' start angles.
+struct Setup {
+    spheres: Vec<linesample::world::Sphere<3>>,
+    point: [f64; 3],
+    normal: [f64; 3],
+    tangent: [f64; 3],
+    planes: Vec<HalfPlane>,
+    phis: Vec<f32>,
+    theta0s: Vec<f32>,
+}
+
+/// Builds the [`Setup`] and prints the point's AO from its `N` lines.
+fn setup() -> Setup {
     let spheres = ao_scene::spheres();
     // The ground point of pixel (410, 305), pushed onto the ground sphere.
     let p0 = [-0.940_f64, -0.008, 3.925];
@@ -58,7 +72,37 @@ fn occlusion(c: &mut Criterion) {
         .sum::<f64>()
         / N as f64;
     println!("AO at pixel (410, 305) from {N} stratified lines: {ao:.6}");
+    // The f32 batch's azimuths, rounded to f32; the f64 reference widens
+    // the same values.
+    let phis: Vec<f32> = (0..N)
+        .map(|k| (PI * (k as f64 + 0.5) / N as f64) as f32)
+        .collect();
+    let theta0s: Vec<f32> = (0..N)
+        .map(|k| (-FRAC_PI_2 + PI * ((k * 37) % N) as f64 / N as f64) as f32)
+        .collect();
+    Setup {
+        spheres,
+        point,
+        normal,
+        tangent: [1.0, 0.0, 0.0],
+        planes,
+        phis,
+        theta0s,
+    }
+}
 
+/// The `f64` line of azimuth `phi` through `at_azimuth` + `visible`.
+fn line64(s: &Setup, phi: f32, scratch: &mut [(f64, f64)]) -> f64 {
+    HalfPlane::at_azimuth(s.point, s.normal, s.tangent, f64::from(phi))
+        .unwrap()
+        .visible(&s.spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, scratch)
+        .unwrap()
+}
+
+/// The `f64` group: occluded intervals, whole lines, wrapped segments.
+fn f64_visibility(c: &mut Criterion, s: &Setup) {
+    let (spheres, planes) = (&s.spheres, &s.planes);
+    let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
     let mut g = c.benchmark_group("AO visibility (8 spheres, f64)");
     g.throughput(Throughput::Elements(N as u64));
     g.bench_function(
@@ -66,8 +110,8 @@ fn occlusion(c: &mut Criterion) {
         |b| {
             b.iter(|| {
                 let mut n = 0usize;
-                for h in &planes {
-                    for s in &spheres {
+                for h in planes {
+                    for s in spheres {
                         n += h.occluded(black_box(s), 500.0).pieces().len();
                     }
                 }
@@ -81,7 +125,7 @@ fn occlusion(c: &mut Criterion) {
                 .iter()
                 .map(|h| {
                     h.visible(
-                        black_box(&spheres),
+                        black_box(spheres),
                         500.0,
                         -FRAC_PI_2,
                         FRAC_PI_2,
@@ -99,70 +143,66 @@ fn occlusion(c: &mut Criterion) {
                 .enumerate()
                 .map(|(k, h)| {
                     let t0 = -FRAC_PI_2 + PI * ((k * 37) % N) as f64 / N as f64;
-                    h.visible_wrapped(black_box(&spheres), 500.0, t0, 1.0, &mut scratch)
+                    h.visible_wrapped(black_box(spheres), 500.0, t0, 1.0, &mut scratch)
                         .unwrap()
                 })
                 .sum::<f64>()
         })
     });
     g.finish();
+}
 
-    // The f32 batch at the same point, azimuths rounded to f32; the f64
-    // reference at the same (widened) azimuths.
-    let tangent = [1.0, 0.0, 0.0];
-    let ao32 = AoPoint32::<8>::new(point, normal, tangent, &spheres, 500.0).unwrap();
-    let phis: Vec<f32> = (0..N)
-        .map(|k| (PI * (k as f64 + 0.5) / N as f64) as f32)
-        .collect();
-    let theta0s: Vec<f32> = (0..N)
-        .map(|k| (-FRAC_PI_2 + PI * ((k * 37) % N) as f64 / N as f64) as f32)
-        .collect();
+/// Prints the `f32` batch's AO and its largest difference from the `f64`
+/// lines and wrapped segments at the same (widened) azimuths.
+fn f32_accuracy(s: &Setup, ao32: &AoPoint32<8>) {
+    let mut scratch = vec![(0.0, 0.0); 2 * s.spheres.len()];
     let mut out = vec![0.0f32; N];
-    ao32.line_batch_f32(&phis, &mut out).unwrap();
-    let line64 = |phi: f32, scratch: &mut [(f64, f64)]| {
-        HalfPlane::at_azimuth(point, normal, tangent, f64::from(phi))
-            .unwrap()
-            .visible(&spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, scratch)
-            .unwrap()
-    };
+    ao32.line_batch_f32(&s.phis, &mut out).unwrap();
     let (mut worst, mut sum32) = (0.0f64, 0.0f64);
-    for (&phi, &v) in phis.iter().zip(&out) {
-        worst = worst.max((f64::from(v) - line64(phi, &mut scratch)).abs());
+    for (&phi, &v) in s.phis.iter().zip(&out) {
+        worst = worst.max((f64::from(v) - line64(s, phi, &mut scratch)).abs());
         sum32 += f64::from(v);
     }
     let mut seg = vec![0.0f32; N];
-    ao32.segment_batch_f32(&phis, &theta0s, 1.0, &mut seg)
+    ao32.segment_batch_f32(&s.phis, &s.theta0s, 1.0, &mut seg)
         .unwrap();
     let mut worst_seg = 0.0f64;
-    for k in 0..N {
-        let want = HalfPlane::at_azimuth(point, normal, tangent, f64::from(phis[k]))
+    for ((&phi, &t0), &v) in s.phis.iter().zip(&s.theta0s).zip(&seg) {
+        let want = HalfPlane::at_azimuth(s.point, s.normal, s.tangent, f64::from(phi))
             .unwrap()
-            .visible_wrapped(&spheres, 500.0, f64::from(theta0s[k]), 1.0, &mut scratch)
+            .visible_wrapped(&s.spheres, 500.0, f64::from(t0), 1.0, &mut scratch)
             .unwrap();
-        worst_seg = worst_seg.max((f64::from(seg[k]) - want).abs());
+        worst_seg = worst_seg.max((f64::from(v) - want).abs());
     }
     println!(
         "f32 AO ({} of {} spheres kept): AO {:.6}, max |f32 − f64| over the {N} lines {worst:.2e}, \
          over the {N} wrapped segments of length 1 {worst_seg:.2e}",
         ao32.occluders(),
-        spheres.len(),
+        s.spheres.len(),
         sum32 / N as f64
     );
+}
 
+/// The line summand in `f32` (SIMD batch, scalar twin) against `f64`, and
+/// the `f32` wrapped segments.
+fn f32_against_f64(c: &mut Criterion, s: &Setup, ao32: &AoPoint32<8>) {
+    let (spheres, phis) = (&s.spheres, &s.phis);
+    let mut scratch = vec![(0.0, 0.0); 2 * spheres.len()];
+    let (mut out, mut seg) = (vec![0.0f32; N], vec![0.0f32; N]);
     let mut g = c.benchmark_group("AO line summand (8 spheres), f32 vs f64");
     g.throughput(Throughput::Elements(N as u64));
     g.bench_function(
         BenchmarkId::new("f32 SIMD batch (line_batch_f32)", N),
         |b| {
             b.iter(|| {
-                ao32.line_batch_f32(black_box(&phis), &mut out).unwrap();
+                ao32.line_batch_f32(black_box(phis), &mut out).unwrap();
                 out[N - 1]
             })
         },
     );
     g.bench_function(BenchmarkId::new("f32 scalar twin (line_f32)", N), |b| {
         b.iter(|| {
-            black_box(&phis)
+            black_box(phis)
                 .iter()
                 .map(|&phi| ao32.line_f32(phi))
                 .sum::<f32>()
@@ -170,20 +210,20 @@ fn occlusion(c: &mut Criterion) {
     });
     g.bench_function(BenchmarkId::new("f64 (at_azimuth + visible)", N), |b| {
         b.iter(|| {
-            black_box(&phis)
+            black_box(phis)
                 .iter()
-                .map(|&phi| line64(phi, &mut scratch))
+                .map(|&phi| line64(s, phi, &mut scratch))
                 .sum::<f64>()
         })
     });
-    let base = HalfPlane::new(point, normal, tangent).unwrap();
+    let base = HalfPlane::new(s.point, s.normal, s.tangent).unwrap();
     g.bench_function(BenchmarkId::new("f64 (rotated + visible)", N), |b| {
         b.iter(|| {
-            black_box(&phis)
+            black_box(phis)
                 .iter()
                 .map(|&phi| {
                     base.rotated(f64::from(phi))
-                        .visible(&spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, &mut scratch)
+                        .visible(spheres, 500.0, -FRAC_PI_2, FRAC_PI_2, &mut scratch)
                         .unwrap()
                 })
                 .sum::<f64>()
@@ -193,26 +233,30 @@ fn occlusion(c: &mut Criterion) {
         BenchmarkId::new("f32 SIMD batch, segment length 1, wrapped", N),
         |b| {
             b.iter(|| {
-                ao32.segment_batch_f32(black_box(&phis), &theta0s, 1.0, &mut seg)
+                ao32.segment_batch_f32(black_box(phis), &s.theta0s, 1.0, &mut seg)
                     .unwrap();
                 seg[N - 1]
             })
         },
     );
     g.finish();
+}
 
-    // A point sample's visibility (one ray against every sphere, by its
-    // quadratic) at the same azimuths and angles: points per second.
+/// A point sample's visibility (one ray against every sphere, by its
+/// quadratic) at the same azimuths and angles: points per second; then the
+/// `f32` set-up of one point.
+fn points_and_setup(c: &mut Criterion, s: &Setup) {
+    let base = HalfPlane::new(s.point, s.normal, s.tangent).unwrap();
     let mut g = c.benchmark_group("AO point visibility (8 spheres, f64)");
     g.throughput(Throughput::Elements(N as u64));
     g.bench_function(BenchmarkId::new("rotated + sees", N), |b| {
         b.iter(|| {
-            black_box(&phis)
+            black_box(&s.phis)
                 .iter()
-                .zip(&theta0s)
+                .zip(&s.theta0s)
                 .filter(|(&phi, &t)| {
                     base.rotated(f64::from(phi))
-                        .sees(&spheres, 500.0, f64::from(t) + 0.5)
+                        .sees(&s.spheres, 500.0, f64::from(t) + 0.5)
                 })
                 .count()
         })
@@ -223,12 +267,22 @@ fn occlusion(c: &mut Criterion) {
     g.throughput(Throughput::Elements(1));
     g.bench_function("AoPoint32::new (8 spheres)", |b| {
         b.iter(|| {
-            AoPoint32::<8>::new(black_box(point), normal, tangent, &spheres, 500.0)
+            AoPoint32::<8>::new(black_box(s.point), s.normal, s.tangent, &s.spheres, 500.0)
                 .unwrap()
                 .occluders()
         })
     });
     g.finish();
+}
+
+/// Every group, in order.
+fn occlusion(c: &mut Criterion) {
+    let s = setup();
+    f64_visibility(c, &s);
+    let ao32 = AoPoint32::<8>::new(s.point, s.normal, s.tangent, &s.spheres, 500.0).unwrap();
+    f32_accuracy(&s, &ao32);
+    f32_against_f64(c, &s, &ao32);
+    points_and_setup(c, &s);
 }
 
 criterion_group!(benches, occlusion);

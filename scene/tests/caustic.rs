@@ -1044,25 +1044,45 @@ fn points_average_to_the_beam() {
 
 // ------------------------------------------------------------ 5. bad input
 
-/// Test 5. Every constructor rejects bad input naming the parameter.
+/// The `NonFinite` error naming `name`, as `.err()` gives it.
+fn non_finite(name: &'static str) -> Option<ParamError> {
+    Some(ParamError::NonFinite { name })
+}
+
+/// Asserts that a `Medium` was refused as out of range, naming `want`.
+fn assert_medium_out_of_range(r: Result<Medium, ParamError>, want: &str) {
+    assert!(
+        matches!(r, Err(ParamError::OutOfRange { name, .. }) if name == want),
+        "{r:?} should name {want}"
+    );
+}
+
+/// The 2D test scene with the light at `light`: glass of radius 0.5 at the origin.
+fn caustic_2d(light: [f64; 2], fresnel: Fresnel) -> Result<Caustic<2>, ParamError> {
+    Caustic::new(
+        ConeEmitter::new(light, [0.0, -1.0], 0.3).unwrap(),
+        Glass::new([0.0, 0.0], 0.5, 1.5).unwrap(),
+        Medium::new(0.5, 0.1).unwrap(),
+        Sphere::new([0.05, -1.0], 0.1).unwrap(),
+        fresnel,
+    )
+}
+
+/// Test 5. `Medium::new` rejects non-finite and negative coefficients by name.
 #[test]
-fn bad_input_is_rejected_with_the_parameter_name() {
-    let nf = |name| Some(ParamError::NonFinite { name });
-    let oor = |r: Result<Medium, ParamError>, want: &str| {
-        assert!(
-            matches!(r, Err(ParamError::OutOfRange { name, .. }) if name == want),
-            "{r:?} should name {want}"
-        );
-    };
-    // Medium.
-    assert_eq!(Medium::new(f64::NAN, 0.1).err(), nf("sigma_s"));
-    assert_eq!(Medium::new(0.1, f64::NAN).err(), nf("sigma_a"));
-    assert_eq!(Medium::new(f64::INFINITY, 0.1).err(), nf("sigma_s"));
-    oor(Medium::new(-0.1, 0.5), "sigma_s");
-    oor(Medium::new(0.5, -1e-300), "sigma_a");
-    oor(Medium::new(0.0, 0.0), "sigma_t");
+fn medium_rejects_bad_input_by_name() {
+    assert_eq!(Medium::new(f64::NAN, 0.1).err(), non_finite("sigma_s"));
+    assert_eq!(Medium::new(0.1, f64::NAN).err(), non_finite("sigma_a"));
+    assert_eq!(Medium::new(f64::INFINITY, 0.1).err(), non_finite("sigma_s"));
+    assert_medium_out_of_range(Medium::new(-0.1, 0.5), "sigma_s");
+    assert_medium_out_of_range(Medium::new(0.5, -1e-300), "sigma_a");
+    assert_medium_out_of_range(Medium::new(0.0, 0.0), "sigma_t");
     assert!(Medium::new(0.0, 1.0).is_ok() && Medium::new(1.0, 0.0).is_ok());
-    // ConeEmitter.
+}
+
+/// Test 5. `ConeEmitter::new` names a bad axis, position, half angle or dimension.
+#[test]
+fn cone_emitter_rejects_bad_input_by_name() {
     assert_eq!(
         ConeEmitter::<2>::new([0.0, 0.0], [0.0, 0.0], 0.1),
         Err(ParamError::ZeroDirection)
@@ -1073,15 +1093,15 @@ fn bad_input_is_rejected_with_the_parameter_name() {
     );
     assert_eq!(
         ConeEmitter::<2>::new([f64::NAN, 0.0], [0.0, 1.0], 0.1).err(),
-        nf("position")
+        non_finite("position")
     );
     assert_eq!(
         ConeEmitter::<3>::new([0.0; 3], [0.0, f64::NAN, 1.0], 0.1).err(),
-        nf("axis")
+        non_finite("axis")
     );
     assert_eq!(
         ConeEmitter::<2>::new([0.0, 0.0], [0.0, 1.0], f64::NAN).err(),
-        nf("half_angle")
+        non_finite("half_angle")
     );
     for bad in [0.0, -0.1, 1e-13, PI + 1e-12, 4.0] {
         assert!(
@@ -1100,38 +1120,43 @@ fn bad_input_is_rejected_with_the_parameter_name() {
         ConeEmitter::<4>::new([0.0; 4], [1.0, 0.0, 0.0, 0.0], 0.1),
         Err(ParamError::Dimension { dim: 4 })
     );
-    // Glass.
+}
+
+/// Test 5. `Glass::new` rejects a bad index, radius or centre by name.
+#[test]
+fn glass_rejects_bad_input_by_name() {
     for bad in [0.99, 0.0, -1.5, 10.5] {
         assert!(matches!(
             Glass::<2>::new([0.0, 0.0], 1.0, bad),
             Err(ParamError::OutOfRange { name: "ior", .. })
         ));
     }
-    assert_eq!(Glass::<2>::new([0.0, 0.0], 1.0, f64::NAN).err(), nf("ior"));
-    assert_eq!(Glass::<3>::new([0.0; 3], f64::NAN, 1.5).err(), nf("radius"));
+    assert_eq!(
+        Glass::<2>::new([0.0, 0.0], 1.0, f64::NAN).err(),
+        non_finite("ior")
+    );
+    assert_eq!(
+        Glass::<3>::new([0.0; 3], f64::NAN, 1.5).err(),
+        non_finite("radius")
+    );
     assert_eq!(
         Glass::<3>::new([0.0, f64::NAN, 0.0], 1.0, 1.5).err(),
-        nf("centre")
+        non_finite("centre")
     );
     assert!(matches!(
         Glass::<2>::new([0.0, 0.0], 0.0, 1.5),
         Err(ParamError::OutOfRange { name: "radius", .. })
     ));
     assert!(Glass::<2>::new([0.0, 0.0], 1.0, 1.0).is_ok());
-    // Caustic: the light inside or on the glass; too many reflections.
-    let scene = |light: [f64; 2], fresnel| {
-        Caustic::new(
-            ConeEmitter::new(light, [0.0, -1.0], 0.3).unwrap(),
-            Glass::new([0.0, 0.0], 0.5, 1.5).unwrap(),
-            Medium::new(0.5, 0.1).unwrap(),
-            Sphere::new([0.05, -1.0], 0.1).unwrap(),
-            fresnel,
-        )
-    };
+}
+
+/// Test 5. `Caustic::new` names a light inside the glass and too many reflections.
+#[test]
+fn caustic_rejects_bad_input_by_name() {
     for inside in [[0.0, 0.2], [0.0, 0.0], [0.0, 0.5], [0.3, -0.4]] {
         assert!(
             matches!(
-                scene(inside, Fresnel::Off),
+                caustic_2d(inside, Fresnel::Off),
                 Err(ParamError::OutOfRange {
                     name: "position",
                     ..
@@ -1140,12 +1165,12 @@ fn bad_input_is_rejected_with_the_parameter_name() {
             "{inside:?}"
         );
     }
-    assert!(scene([0.0, 0.5000001], Fresnel::Off).is_ok());
+    assert!(caustic_2d([0.0, 0.5000001], Fresnel::Off).is_ok());
     let too_many = Fresnel::On {
         internal_reflections: MAX_INTERNAL_REFLECTIONS + 1,
     };
     assert!(matches!(
-        scene([0.0, 2.0], too_many),
+        caustic_2d([0.0, 2.0], too_many),
         Err(ParamError::OutOfRange {
             name: "internal_reflections",
             ..
@@ -1154,9 +1179,13 @@ fn bad_input_is_rejected_with_the_parameter_name() {
     let max = Fresnel::On {
         internal_reflections: MAX_INTERNAL_REFLECTIONS,
     };
-    let sc = scene([0.0, 2.0], max).unwrap();
+    let sc = caustic_2d([0.0, 2.0], max).unwrap();
     assert_eq!(sc.path([0.5, 0.0]).segments().len(), MAX_SEGMENTS);
-    // PhotonPath.
+}
+
+/// Test 5. `PhotonPath::new` names a bad segment count and bad segment fields.
+#[test]
+fn photon_path_rejects_bad_input_by_name() {
     let seg = Segment {
         ray: Ray::new([0.0, 0.0], [1.0, 0.0]).unwrap(),
         start: 0.0,
@@ -1181,13 +1210,16 @@ fn bad_input_is_rejected_with_the_parameter_name() {
         f(&mut s[1]);
         PhotonPath::new(&s)
     };
-    assert_eq!(with(&|s| s.weight = f64::NAN).err(), nf("weight"));
-    assert_eq!(with(&|s| s.weight = f64::INFINITY).err(), nf("weight"));
+    assert_eq!(with(&|s| s.weight = f64::NAN).err(), non_finite("weight"));
+    assert_eq!(
+        with(&|s| s.weight = f64::INFINITY).err(),
+        non_finite("weight")
+    );
     assert!(matches!(
         with(&|s| s.weight = -0.5),
         Err(ParamError::OutOfRange { name: "weight", .. })
     ));
-    assert_eq!(with(&|s| s.start = f64::NAN).err(), nf("start"));
+    assert_eq!(with(&|s| s.start = f64::NAN).err(), non_finite("start"));
     assert!(matches!(
         with(&|s| s.start = -1.0),
         Err(ParamError::OutOfRange { name: "start", .. })
@@ -1199,9 +1231,16 @@ fn bad_input_is_rejected_with_the_parameter_name() {
         ));
     }
     assert!(with(&|s| s.length = 0.0).is_ok());
-    // The messages name the parameter.
+}
+
+/// Test 5. The error messages name the parameter.
+#[test]
+fn error_messages_name_the_parameter() {
     let e = Medium::new(0.0, 0.0).unwrap_err();
     assert!(e.to_string().contains("sigma_t"), "{e}");
-    let e = scene([0.0, 2.0], too_many).unwrap_err();
+    let too_many = Fresnel::On {
+        internal_reflections: MAX_INTERNAL_REFLECTIONS + 1,
+    };
+    let e = caustic_2d([0.0, 2.0], too_many).unwrap_err();
     assert!(e.to_string().contains("internal_reflections"), "{e}");
 }

@@ -183,21 +183,59 @@ struct Bound {
     undecided: bool,
 }
 
-/// The module's error bound for the `f32` line `(c, s, o)` at a receiver
-/// (module docs, "Error bound"), from exact `f64` geometry.
-fn bound(
+/// The `f64` geometry of one `f32` line against the light, as the bound uses it.
+struct LineGeom {
+    /// The line's direction, first component (widened exactly).
+    c: f64,
+    /// The line's direction, second component (widened exactly).
+    s: f64,
+    /// `δ_d = |c² + s² − 1|`.
+    dd: f64,
+    /// The receiver's foot on the light's plane, first axis.
+    fa: f64,
+    /// The receiver's foot on the light's plane, second axis.
+    fb: f64,
+    /// The light's first edge length.
+    l1: f64,
+    /// The light's second edge length.
+    l2: f64,
+    /// The receiver's unit normal on the light's axes.
+    lam: [f64; 2],
+    /// `a₀ = −h n·N_L`.
+    a0: f64,
+    /// The receiver's height above the light's plane.
+    h: f64,
+    /// `ρ`, the line's offset from the foot.
+    rho: f64,
+    /// `q² = h² + ρ²`.
+    q2: f64,
+    /// `q`.
+    q: f64,
+    /// `A` of the line integrand.
+    big_a: f64,
+    /// `β` of the line integrand.
+    beta: f64,
+    /// `U = h/(2q²)`.
+    u: f64,
+    /// `a = A/q`.
+    a: f64,
+    /// `δρ`, the uncertainty of `ρ`.
+    drho: f64,
+}
+
+/// The geometry of the `f32` line `(c, s, o)`, or `None` below the light's plane.
+fn line_geometry(
     light: &QuadLight,
     rec: &Receiver,
-    shadows: &[Shadow],
     c32: f32,
     s32: f32,
     o32: f32,
-) -> Bound {
+) -> Option<LineGeom> {
     let (c, s, o) = (f64::from(c32), f64::from(s32), f64::from(o32));
     let dd = (c * c + s * s - 1.0).abs();
     let (foot, h) = light.foot(rec.x);
     if h <= 0.0 {
-        return Bound::default();
+        return None;
     }
     let [fa, fb] = foot;
     let [l1, l2] = light.lengths();
@@ -215,162 +253,251 @@ fn bound(
     let xc = sub(rec.x, light.corner());
     let drho = (0.5 * EPS + dd) * rho.abs()
         + 2.3e-16 * (o.abs() + fa.abs() + fb.abs() + 2.0 * dot(xc, xc).sqrt());
-    // A boundary N·P + γ ≥ 0: its crossing, uncertainty, and whether it is
-    // a lower (k > 0) or upper bound; `None` for k = 0 with `Some(flip)`
-    // saying whether rounding could change the decision.
-    struct Cross {
-        sigma: f64,
-        ds: f64,
-        lower: bool,
-    }
-    enum B {
-        Cross(Cross),
-        Const { uncertain: bool, violated: bool },
-    }
-    let crossing = |nv: [f64; 2], g: f64| -> B {
-        let k = nv[0] * c + nv[1] * s;
-        let m = rho * (-nv[0] * s + nv[1] * c) + g;
-        let nu = nv[0].hypot(nv[1]);
-        let kappa = if nu > 0.0 { k.abs() / nu } else { 0.0 };
-        if kappa < 1e-30 {
-            let dm = (7.0 * EPS + dd) * (nu * rho.abs() + g.abs()) + nu * drho;
-            return B::Const {
-                uncertain: m.abs() <= dm,
-                violated: m < 0.0,
-            };
-        }
-        let sigma = -m / k;
-        let r = sigma.hypot(q);
-        B::Cross(Cross {
-            sigma,
-            ds: ((7.0 * EPS + dd) * r + drho) / kappa,
-            lower: k > 0.0,
-        })
-    };
-    let mut chord_b = vec![
-        crossing([1.0, 0.0], fa),
-        crossing([-1.0, 0.0], l1 - fa),
-        crossing([0.0, 1.0], fb),
-        crossing([0.0, -1.0], l2 - fb),
-    ];
-    let clamp = crossing(lam, a0);
-    chord_b.push(clamp);
-    let mut total_t = 0.0;
-    let mut undecided = false;
-    // The chord (clamped), widened by every end's uncertainty.
-    let (mut w0, mut w1) = (f64::NEG_INFINITY, f64::INFINITY);
-    for b in &chord_b {
-        match b {
-            B::Cross(x) if x.lower => w0 = w0.max(x.sigma - x.ds),
-            B::Cross(x) => w1 = w1.min(x.sigma + x.ds),
-            B::Const {
-                uncertain: true, ..
-            } => {
-                total_t += 4.0;
-                undecided = true;
-            }
-            B::Const { violated: true, .. } => {
-                return Bound {
-                    u,
-                    ..Bound::default()
-                }
-            }
-            B::Const { .. } => {}
-        }
-    }
-    if w0 >= w1 {
-        return Bound {
-            total: u * total_t,
-            u,
-            parts: [0.0, 0.0, 0.0, 0.0, total_t / EPS],
-            undecided,
+    Some(LineGeom {
+        c,
+        s,
+        dd,
+        fa,
+        fb,
+        l1,
+        l2,
+        lam,
+        a0,
+        h,
+        rho,
+        q2,
+        q,
+        big_a,
+        beta,
+        u,
+        a,
+        drho,
+    })
+}
+
+/// Where a boundary `N·P + γ ≥ 0` crosses the line, and how well that is known.
+struct Cross {
+    /// The crossing `σ` along the line.
+    sigma: f64,
+    /// Its uncertainty `δs`.
+    ds: f64,
+    /// Whether the boundary is a lower (`k > 0`) rather than an upper bound.
+    lower: bool,
+}
+
+/// A boundary `N·P + γ ≥ 0` on the line: a crossing, or for `k = 0` a constant decision.
+enum Boundary {
+    /// The boundary crosses the line.
+    Cross(Cross),
+    /// Parallel to the line: whether rounding could change the decision, and
+    /// whether the whole line is outside.
+    Const { uncertain: bool, violated: bool },
+}
+
+/// The boundary `N·P + γ ≥ 0` (`N = nv`, `γ = g`) on the line of `geo`.
+fn crossing(geo: &LineGeom, nv: [f64; 2], g: f64) -> Boundary {
+    let (c, s, rho) = (geo.c, geo.s, geo.rho);
+    let k = nv[0] * c + nv[1] * s;
+    let m = rho * (-nv[0] * s + nv[1] * c) + g;
+    let nu = nv[0].hypot(nv[1]);
+    let kappa = if nu > 0.0 { k.abs() / nu } else { 0.0 };
+    if kappa < 1e-30 {
+        let dm = (7.0 * EPS + geo.dd) * (nu * rho.abs() + g.abs()) + nu * geo.drho;
+        return Boundary::Const {
+            uncertain: m.abs() <= dm,
+            violated: m < 0.0,
         };
     }
-    let rr = |x: f64| x / x.hypot(q);
-    // ∫|E'| over the part of [σ − δs, σ + δs] in [w0, w1], the larger side.
-    let t_of = |x: &Cross| -> (f64, f64) {
-        let sides = [(x.sigma - x.ds, x.sigma), (x.sigma, x.sigma + x.ds)];
-        let mut best: f64 = 0.0;
-        let mut rmin = f64::INFINITY;
-        for (lo, hi) in sides {
-            let (lo, hi) = (lo.max(w0), hi.min(w1));
-            if lo < hi {
-                best = best.max(2.0 * (rr(hi) - rr(lo)));
-                let near = if lo > 0.0 {
-                    lo
-                } else if hi < 0.0 {
-                    -hi
-                } else {
-                    0.0
-                };
-                rmin = rmin.min(near.hypot(q));
-            }
+    let sigma = -m / k;
+    let r = sigma.hypot(geo.q);
+    Boundary::Cross(Cross {
+        sigma,
+        ds: ((7.0 * EPS + geo.dd) * r + geo.drho) / kappa,
+        lower: k > 0.0,
+    })
+}
+
+/// The chord's boundaries: the light's four edges, then the cosine clamp.
+fn chord_boundaries(geo: &LineGeom) -> [Boundary; 5] {
+    [
+        crossing(geo, [1.0, 0.0], geo.fa),
+        crossing(geo, [-1.0, 0.0], geo.l1 - geo.fa),
+        crossing(geo, [0.0, 1.0], geo.fb),
+        crossing(geo, [0.0, -1.0], geo.l2 - geo.fb),
+        crossing(geo, geo.lam, geo.a0),
+    ]
+}
+
+/// The running `Σ_b T_b` (in units of `U`) and whether a parallel boundary was undecided.
+#[derive(Default)]
+struct Tally {
+    /// `Σ_b T_b` so far.
+    t: f64,
+    /// A parallel boundary passed within rounding of the line.
+    undecided: bool,
+}
+
+impl Tally {
+    /// Counts a parallel boundary within rounding of the line (`T = 4`).
+    fn parallel_within_rounding(&mut self) {
+        self.t += 4.0;
+        self.undecided = true;
+    }
+}
+
+/// The chord widened by its ends' uncertainty, or `None` when a parallel boundary excludes it.
+fn widened_chord(chord: &[Boundary], tally: &mut Tally) -> Option<(f64, f64)> {
+    let (mut w0, mut w1) = (f64::NEG_INFINITY, f64::INFINITY);
+    for b in chord {
+        match b {
+            Boundary::Cross(x) if x.lower => w0 = w0.max(x.sigma - x.ds),
+            Boundary::Cross(x) => w1 = w1.min(x.sigma + x.ds),
+            Boundary::Const {
+                uncertain: true, ..
+            } => tally.parallel_within_rounding(),
+            Boundary::Const { violated: true, .. } => return None,
+            Boundary::Const { .. } => {}
         }
-        (best, rmin)
-    };
-    for (i, b) in chord_b.iter().enumerate() {
-        if let B::Cross(x) = b {
-            let (t, rmin) = t_of(x);
+    }
+    Some((w0, w1))
+}
+
+/// `x/√(x² + q²)`, whose differences give the crossing terms' `∫|E'|`.
+fn s_over_r(x: f64, q: f64) -> f64 {
+    x / x.hypot(q)
+}
+
+/// `∫|E'|` over the larger side of `[σ − δs, σ + δs]` within `w`, and the least `r` there.
+fn crossing_term(q: f64, x: &Cross, (w0, w1): (f64, f64)) -> (f64, f64) {
+    let sides = [(x.sigma - x.ds, x.sigma), (x.sigma, x.sigma + x.ds)];
+    let mut best: f64 = 0.0;
+    let mut rmin = f64::INFINITY;
+    for (lo, hi) in sides {
+        let (lo, hi) = (lo.max(w0), hi.min(w1));
+        if lo < hi {
+            best = best.max(2.0 * (s_over_r(hi, q) - s_over_r(lo, q)));
+            let near = if lo > 0.0 {
+                lo
+            } else if hi < 0.0 {
+                -hi
+            } else {
+                0.0
+            };
+            rmin = rmin.min(near.hypot(q));
+        }
+    }
+    (best, rmin)
+}
+
+/// Adds the chord ends' terms to the tally (the clamp's scaled by `|L| ≤ |β| δs`).
+fn add_chord_terms(geo: &LineGeom, chord: &[Boundary; 5], w: (f64, f64), tally: &mut Tally) {
+    for (i, b) in chord.iter().enumerate() {
+        if let Boundary::Cross(x) = b {
+            let (t, rmin) = crossing_term(geo.q, x, w);
             if i == 4 {
                 // The clamp: |L| ≤ |β| δs there.
-                total_t += t * (beta.abs() * x.ds / rmin).min(1.0);
+                tally.t += t * (geo.beta.abs() * x.ds / rmin).min(1.0);
             } else {
-                total_t += t;
+                tally.t += t;
             }
         }
     }
-    // Shadows: every plane's crossing; K the shadows whose widened interval
-    // meets the widened chord.
+}
+
+/// Adds one shadow's plane terms to the tally; whether it meets the widened chord `w`.
+fn shadow_meets_chord(geo: &LineGeom, sh: &Shadow, w: (f64, f64), tally: &mut Tally) -> bool {
+    let (mut lo, mut hi) = w;
+    let mut empty = false;
+    for p in sh.planes() {
+        let g = p[2] + p[0] * geo.fa + p[1] * geo.fb;
+        match crossing(geo, [p[0], p[1]], g) {
+            Boundary::Cross(x) => {
+                tally.t += crossing_term(geo.q, &x, w).0;
+                if x.lower {
+                    lo = lo.max(x.sigma - x.ds);
+                } else {
+                    hi = hi.min(x.sigma + x.ds);
+                }
+            }
+            Boundary::Const {
+                uncertain: true, ..
+            } => tally.parallel_within_rounding(),
+            Boundary::Const { violated: true, .. } => empty = true,
+            Boundary::Const { .. } => {}
+        }
+    }
+    !empty && lo < hi
+}
+
+/// Adds every shadow's plane terms to the tally; returns `K`, the shadows meeting `w`.
+fn add_shadow_terms(geo: &LineGeom, shadows: &[Shadow], w: (f64, f64), tally: &mut Tally) -> usize {
     let mut k_count = 0usize;
     for sh in shadows {
-        let (mut lo, mut hi) = (w0, w1);
-        let mut empty = false;
-        for p in sh.planes() {
-            let g = p[2] + p[0] * fa + p[1] * fb;
-            match crossing([p[0], p[1]], g) {
-                B::Cross(x) => {
-                    total_t += t_of(&x).0;
-                    if x.lower {
-                        lo = lo.max(x.sigma - x.ds);
-                    } else {
-                        hi = hi.min(x.sigma + x.ds);
-                    }
-                }
-                B::Const {
-                    uncertain: true, ..
-                } => {
-                    total_t += 4.0;
-                    undecided = true;
-                }
-                B::Const { violated: true, .. } => empty = true,
-                B::Const { .. } => {}
-            }
-        }
-        if !empty && lo < hi {
+        if shadow_meets_chord(geo, sh, w, tally) {
             k_count += 1;
         }
     }
+    k_count
+}
+
+/// The bound from its parts on the widened chord `(w0, w1)`, given `K` and the tally.
+fn assemble(geo: &LineGeom, (w0, w1): (f64, f64), k_count: usize, tally: &Tally) -> Bound {
+    let (q, q2, a, beta) = (geo.q, geo.q2, geo.a, geo.beta);
     let s_star = 0.0f64.clamp(w0, w1);
     let eta = q.atan2(s_star.abs());
     let g_star = eta - eta.sin() * eta.cos();
     let sin2 = q2 / (s_star * s_star + q2);
     let w_star = a.abs() * g_star + beta.abs() * sin2;
     let gamma_star = g_star + sin2;
-    let j = diffuse_line_integral(h, big_a, beta, q, w0, w1) / u;
+    let j = diffuse_line_integral(geo.h, geo.big_a, beta, q, w0, w1) / geo.u;
     let kk = k_count as f64;
     let parts = [
         24.0 * (kk + 1.0) * w_star,
         10.0 * gamma_star + PI * a.abs(),
         (kk + 6.0) * j,
-        (3.0 * dd * j + 5.0 * PI * drho / q) / EPS,
-        total_t / EPS,
+        (3.0 * geo.dd * j + 5.0 * PI * geo.drho / q) / EPS,
+        tally.t / EPS,
     ];
     Bound {
-        total: u * EPS * parts.iter().sum::<f64>(),
-        u,
+        total: geo.u * EPS * parts.iter().sum::<f64>(),
+        u: geo.u,
         parts,
-        undecided,
+        undecided: tally.undecided,
     }
+}
+
+/// The module's error bound for the `f32` line `(c, s, o)` at a receiver
+/// (module docs, "Error bound"), from exact `f64` geometry.
+fn bound(
+    light: &QuadLight,
+    rec: &Receiver,
+    shadows: &[Shadow],
+    c32: f32,
+    s32: f32,
+    o32: f32,
+) -> Bound {
+    let Some(geo) = line_geometry(light, rec, c32, s32, o32) else {
+        return Bound::default();
+    };
+    let chord = chord_boundaries(&geo);
+    let mut tally = Tally::default();
+    let Some((w0, w1)) = widened_chord(&chord, &mut tally) else {
+        return Bound {
+            u: geo.u,
+            ..Bound::default()
+        };
+    };
+    if w0 >= w1 {
+        return Bound {
+            total: geo.u * tally.t,
+            u: geo.u,
+            parts: [0.0, 0.0, 0.0, 0.0, tally.t / EPS],
+            undecided: tally.undecided,
+        };
+    }
+    add_chord_terms(&geo, &chord, (w0, w1), &mut tally);
+    let k_count = add_shadow_terms(&geo, shadows, (w0, w1), &mut tally);
+    assemble(&geo, (w0, w1), k_count, &tally)
 }
 
 /// The `f64` reference for the `f32` line: the line `p·(−s, c) = o` the
