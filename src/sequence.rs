@@ -18,8 +18,8 @@
 //!
 //! | pattern | [`count`](Sequence::count) | [`dimensions`](Sequence::dimensions) | cost of one point |
 //! |---|---|---|---|
-//! | [`Sobol<D>`] | `2³²` (the whole sequence) | 16 ([`SOBOL_DIMENSIONS`]) | `O(1)`: two hash scrambles and a 32-bit matrix product per coordinate |
-//! | [`Halton<D>`] | `2³²` (the whole sequence) | 16 ([`HALTON_DIMENSIONS`]) | `O(K_b)` per coordinate, `K_b ≤ 32` base-`b` digits |
+//! | [`Sobol<D>`] | `2³²` (the whole sequence) | 1024 ([`SOBOL_DIMENSIONS`]) | `O(1)`: two hash scrambles and a 32-bit matrix product per coordinate |
+//! | [`Halton<D>`] | `2³²` (the whole sequence) | 1024 ([`HALTON_DIMENSIONS`]) | `O(K_b)` per coordinate, `K_b ≤ 32` base-`b` digits (`K_b ≤ 3` from dimension 16 on) |
 //! | [`Random<D>`] | `N` | `D` | `O(1)`: outputs `k·D + j` of the counter-based stream ([`crate::rng::Counter`]) |
 //! | [`Jittered<D>`] | `N` | `D` | `O(1)`: counter outputs plus the cell of `k` (`D` divisions) |
 //! | [`NRooks<D>`] | `N` | `D` | counter outputs plus one hash permutation per axis (`O(1)` expected, [`crate::hash::permute`]) |
@@ -45,7 +45,7 @@
 //! distinct `dim` per 2D sample dimension (lens, light, BSDF, …) makes the
 //! dimensions of one pixel independent ("padding" of 2D patterns, Kollig &
 //! Keller 2002). For a single high-dimensional point per pixel instead, use one
-//! pixel seed and [`Sequence::sample`] with `dim` up to 16 on [`Sobol`] or
+//! pixel seed and [`Sequence::sample`] with `dim` up to 1023 on [`Sobol`] or
 //! [`Halton`].
 //!
 //! # Example: a renderer's sampler
@@ -81,9 +81,13 @@
 //!
 //! // Sobol' and Halton run past the pattern's N (the sequence has 2³² points) ...
 //! assert!(sobol.get_2d(10, 20, 0, 1000).is_ok());
-//! // ... and give 16 dimensions of one point:
-//! let z = sobol.seq.sample(5, 15, pixel_seed(seed, 10, 20, 0))?;
+//! // ... and give 1024 dimensions of one point; past them, an error:
+//! let z = sobol.seq.sample(5, 1023, pixel_seed(seed, 10, 20, 0))?;
 //! assert!((0.0..1.0).contains(&z));
+//! assert_eq!(
+//!     sobol.seq.sample(5, 1024, seed),
+//!     Err(PatternError::Dimension { dim: 1024, max: 1024 })
+//! );
 //!
 //! // A stratified pattern has exactly N points; asking past them is an error.
 //! let jit = PixelSampler { seq: Jittered::new([8, 8])?, seed };
@@ -137,7 +141,7 @@ pub trait Sequence<const D: usize> {
     /// [`Halton`], whose points do not depend on `N`. Always at least 1.
     fn count(&self) -> u64;
 
-    /// Number of dimensions [`Sequence::sample`] accepts: `D`, or 16
+    /// Number of dimensions [`Sequence::sample`] accepts: `D`, or 1024
     /// ([`SOBOL_DIMENSIONS`], [`HALTON_DIMENSIONS`]) for [`Sobol`] and
     /// [`Halton`]. The default is `D`.
     fn dimensions(&self) -> u32 {
@@ -153,7 +157,7 @@ pub trait Sequence<const D: usize> {
     fn point(&self, index: u64, seed: Seed) -> Result<[f32; D], PatternError>;
 
     /// Coordinate `dim` of point `index`: `point(index, seed)?[dim]` for
-    /// `dim < D`. [`Sobol`] and [`Halton`] accept every `dim` below 16 (their
+    /// `dim < D`. [`Sobol`] and [`Halton`] accept every `dim` below 1024 (their
     /// sequence dimensions, independent of `D`) and return their
     /// [`Sobol::sample`] / [`Halton::sample`].
     ///
@@ -277,7 +281,7 @@ finite_sequence! {
 const FULL: u64 = 1 << 32;
 
 /// `Sequence<D>` for the low-discrepancy sequences, with `sample` from their
-/// inherent 16-dimensional random access.
+/// inherent 1024-dimensional random access.
 macro_rules! full_sequence {
     ($($ty:ident, $dims:expr;)*) => {$(
         impl<const D: usize> Sequence<D> for $ty<D> {
@@ -293,7 +297,7 @@ macro_rules! full_sequence {
             fn sample(&self, index: u64, dim: u32, seed: Seed) -> Result<f32, PatternError> {
                 check_index(index, FULL)?;
                 check_dim(dim, $dims)?;
-                // index < 2³² and dim < 16 were checked: no truncation, no assert.
+                // index < 2³² and dim < 1024 were checked: no truncation, no panic.
                 Ok($ty::<1>::sample(index as u32, dim, seed))
             }
         }

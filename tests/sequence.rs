@@ -273,16 +273,17 @@ fn out_of_range_index_and_dim_are_errors() {
     assert_eq!(s.point(full, seed).err(), range(full, full));
     assert_eq!(s.point(u64::MAX, seed).err(), range(u64::MAX, full));
     assert_eq!(s.sample(full, 0, seed).err(), range(full, full));
-    assert_eq!(s.sample(0, 16, seed).err(), dimension(16, 16));
-    assert_eq!(s.sample(0, u32::MAX, seed).err(), dimension(u32::MAX, 16));
+    assert!(s.sample(0, 1023, seed).is_ok());
+    assert_eq!(s.sample(0, 1024, seed).err(), dimension(1024, 1024));
+    assert_eq!(s.sample(0, u32::MAX, seed).err(), dimension(u32::MAX, 1024));
     let h = Halton::<2>::new(4).unwrap();
     assert_eq!(h.point(full, seed).err(), range(full, full));
-    assert_eq!(h.sample(0, 16, seed).err(), dimension(16, 16));
-    assert!(h.sample(full - 1, 15, seed).is_ok());
+    assert_eq!(h.sample(0, 1024, seed).err(), dimension(1024, 1024));
+    assert!(h.sample(full - 1, 1023, seed).is_ok());
 
     let sh = Sobol::<2>::new(4).unwrap().shifted();
     assert_eq!(sh.point(full, seed).err(), range(full, full));
-    assert_eq!(sh.sample(1, 16, seed).err(), dimension(16, 16));
+    assert_eq!(sh.sample(1, 1024, seed).err(), dimension(1024, 1024));
     let shj = j.clone().shifted();
     assert_eq!(shj.point(15, seed).err(), range(15, 15));
     assert_eq!(shj.sample(0, 2, seed).err(), dimension(2, 2));

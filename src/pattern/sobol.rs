@@ -8,32 +8,41 @@ use crate::rng::Seed;
 use wide::{f32x8, u32x8};
 
 /// Number of Sobol' dimensions available to [`Sobol::sample`]: the van der Corput
-/// sequence plus Joe & Kuo (2008) dimensions 2 to 16.
-pub const SOBOL_DIMENSIONS: u32 = 16;
+/// sequence plus Joe & Kuo (2008) dimensions 2 to 1024.
+pub const SOBOL_DIMENSIONS: u32 = 1024;
 
 const NDIM: usize = SOBOL_DIMENSIONS as usize;
 
-/// Joe & Kuo (2008), `new-joe-kuo-6.21201`, dimensions 2..=16: `(s, a, [m₁..m_s])`.
-const JOE_KUO: [(u32, u32, [u32; 6]); NDIM - 1] = [
-    (1, 0, [1, 0, 0, 0, 0, 0]),
-    (2, 1, [1, 3, 0, 0, 0, 0]),
-    (3, 1, [1, 3, 1, 0, 0, 0]),
-    (3, 2, [1, 1, 1, 0, 0, 0]),
-    (4, 1, [1, 1, 3, 3, 0, 0]),
-    (4, 4, [1, 3, 5, 13, 0, 0]),
-    (5, 2, [1, 1, 5, 5, 17, 0]),
-    (5, 4, [1, 1, 5, 5, 5, 0]),
-    (5, 7, [1, 1, 7, 11, 19, 0]),
-    (5, 11, [1, 1, 5, 1, 1, 0]),
-    (5, 13, [1, 1, 1, 3, 11, 0]),
-    (5, 14, [1, 3, 5, 5, 31, 0]),
-    (6, 1, [1, 3, 3, 9, 7, 49]),
-    (6, 13, [1, 1, 1, 15, 21, 21]),
-    (6, 16, [1, 3, 1, 13, 27, 49]),
-];
+/// Dimensions with nibble tables ([`NIBBLES`], 8 KiB each): the pattern
+/// dimensions and the first random-access ones. Higher dimensions use the
+/// direct product over [`DIRECTIONS`] (the same values).
+const NIBBLE_DIMS: usize = 16;
+
+/// The first 1024 lines of Joe & Kuo's `new-joe-kuo-6.21201` (a header, then
+/// `d s a m₁ … m_s` for dimensions 2 to 1024), verbatim; its licence is
+/// `data/JOE-KUO-LICENSE.txt` beside it.
+const JOE_KUO: &[u8] = include_bytes!("data/joe-kuo-6.21201-first1024.txt");
+
+/// The next unsigned decimal in `t` at or after `*at`, skipping spaces and
+/// stopping at the end of the line: `None` at a newline or the end of `t`.
+const fn next_number(t: &[u8], at: &mut usize) -> Option<u32> {
+    while *at < t.len() && t[*at] == b' ' {
+        *at += 1;
+    }
+    if *at >= t.len() || t[*at] == b'\n' {
+        return None;
+    }
+    let mut x = 0u32;
+    while *at < t.len() && t[*at].is_ascii_digit() {
+        x = x * 10 + (t[*at] - b'0') as u32;
+        *at += 1;
+    }
+    Some(x)
+}
 
 /// `V[d][k]`: direction number of dimension `d` for index bit `k`, as a 32-bit
-/// binary fraction (bit 31 = 1/2).
+/// binary fraction (bit 31 = 1/2), from the table [`JOE_KUO`] (parsed at
+/// compile time; a malformed table fails the build).
 const fn direction_numbers() -> [[u32; 32]; NDIM] {
     let mut v = [[0u32; 32]; NDIM];
     let mut k = 0;
@@ -41,16 +50,38 @@ const fn direction_numbers() -> [[u32; 32]; NDIM] {
         v[0][k] = 1 << (31 - k);
         k += 1;
     }
+    let t = JOE_KUO;
+    // Skip the header line.
+    let mut at = 0;
+    while t[at] != b'\n' {
+        at += 1;
+    }
+    at += 1;
     let mut d = 1;
     while d < NDIM {
-        let (s, a, init) = JOE_KUO[d - 1];
+        let (Some(dd), Some(s), Some(a)) = (
+            next_number(t, &mut at),
+            next_number(t, &mut at),
+            next_number(t, &mut at),
+        ) else {
+            panic!("Joe–Kuo table: a line lacks d, s or a");
+        };
+        assert!(
+            dd as usize == d + 1,
+            "Joe–Kuo table: dimensions out of order"
+        );
         let s = s as usize;
+        assert!(s >= 1 && s < 32, "Joe–Kuo table: degree out of range");
         // m[k] holds m_{k+1} < 2^{k+1}, so it fits 32 bits for k < 32.
         let mut m = [0u32; 32];
         let mut k = 0;
         while k < 32 {
             if k < s {
-                m[k] = init[k];
+                let Some(mk) = next_number(t, &mut at) else {
+                    panic!("Joe–Kuo table: fewer than s initial numbers");
+                };
+                assert!(mk % 2 == 1 && mk < 1 << (k + 1), "Joe–Kuo table: bad m_k");
+                m[k] = mk;
             } else {
                 let mut x = m[k - s] ^ (m[k - s] << s);
                 let mut i = 1;
@@ -65,20 +96,26 @@ const fn direction_numbers() -> [[u32; 32]; NDIM] {
             v[d][k] = m[k] << (31 - k);
             k += 1;
         }
+        assert!(
+            next_number(t, &mut at).is_none(),
+            "Joe–Kuo table: more than s numbers"
+        );
+        at += 1;
         d += 1;
     }
     v
 }
 
-const DIRECTIONS: [[u32; 32]; NDIM] = direction_numbers();
+static DIRECTIONS: [[u32; 32]; NDIM] = direction_numbers();
 
 /// Nibble tables of the bit-reversed generator matrices, indexed by the bits of the
 /// *reversed* index `t = reverse(i)`: `NIBBLES[d][p][n] = ⊕_{b: n_b = 1}
 /// reverse(V[d][31 − 4p − b])`, so that `reverse(x_d(i)) = ⊕_p NIBBLES[d][p][(t ≫ 4p) & 15]`.
-const fn nibble_tables() -> [[[u32; 16]; 8]; NDIM] {
-    let mut t = [[[0u32; 16]; 8]; NDIM];
+const fn nibble_tables() -> [[[u32; 16]; 8]; NIBBLE_DIMS] {
+    let dirs = direction_numbers();
+    let mut t = [[[0u32; 16]; 8]; NIBBLE_DIMS];
     let mut d = 0;
-    while d < NDIM {
+    while d < NIBBLE_DIMS {
         let mut p = 0;
         while p < 8 {
             let mut n = 0;
@@ -87,7 +124,7 @@ const fn nibble_tables() -> [[[u32; 16]; 8]; NDIM] {
                 let mut b = 0;
                 while b < 4 {
                     if (n >> b) & 1 == 1 {
-                        x ^= DIRECTIONS[d][31 - 4 * p - b].reverse_bits();
+                        x ^= dirs[d][31 - 4 * p - b].reverse_bits();
                     }
                     b += 1;
                 }
@@ -101,20 +138,30 @@ const fn nibble_tables() -> [[[u32; 16]; 8]; NDIM] {
     t
 }
 
-static NIBBLES: [[[u32; 16]; 8]; NDIM] = nibble_tables();
+static NIBBLES: [[[u32; 16]; 8]; NIBBLE_DIMS] = nibble_tables();
 
-/// Unscrambled value `x_d(i)` as a 32-bit binary fraction (see [`Sobol::sobol_u32`]).
-const fn sobol_u32(index: u32, dim: u32) -> u32 {
-    let v = &DIRECTIONS[(dim % SOBOL_DIMENSIONS) as usize];
+/// Unscrambled value `x_d(i)` as a 32-bit binary fraction (see
+/// [`Sobol::sobol_u32`]); `dim < SOBOL_DIMENSIONS` (checked by the callers).
+#[inline(always)]
+fn sobol_u32(index: u32, dim: u32) -> u32 {
+    let v = &DIRECTIONS[dim as usize];
     let mut x = 0;
-    let mut k = 0;
-    while k < 32 {
-        if (index >> k) & 1 == 1 {
-            x ^= v[k];
-        }
-        k += 1;
+    for (k, vk) in v.iter().enumerate() {
+        // Branch-free: all ones where bit k of the index is set.
+        x ^= vk & 0u32.wrapping_sub((index >> k) & 1);
     }
     x
+}
+
+/// Panics unless `dim < SOBOL_DIMENSIONS`, in every build.
+#[inline(always)]
+#[track_caller]
+fn assert_dim(dim: u32) {
+    assert!(
+        dim < SOBOL_DIMENSIONS,
+        "Sobol: dim = {dim} must be below SOBOL_DIMENSIONS = {SOBOL_DIMENSIONS} \
+         (Sobol::try_sample returns an error instead)"
+    );
 }
 
 /// `reverse(x_d(reverse(t)))` from the nibble tables (`t` is a reversed index).
@@ -216,7 +263,12 @@ const fn shuffled_rev(index: u32, k: OwenKey) -> u32 {
 #[inline(always)]
 fn sample_keyed(index: u32, dim: usize, ki: OwenKey, kv: OwenKey) -> f32 {
     let t = shuffled_rev(index, ki);
-    let y = owen_rev(matvec_rev(t, dim), kv);
+    let x_rev = if dim < NIBBLE_DIMS {
+        matvec_rev(t, dim)
+    } else {
+        sobol_u32(t.reverse_bits(), dim as u32).reverse_bits()
+    };
+    let y = owen_rev(x_rev, kv);
     unit_f32(y.reverse_bits())
 }
 
@@ -237,15 +289,17 @@ fn sample_keyed(index: u32, dim: usize, ki: OwenKey, kv: OwenKey) -> f32 {
 /// `x_d(i) = ⊕_k i_k·v_{d,k}`, the XOR of the *direction numbers* `v_{d,k}` (32-bit
 /// binary fractions) over the set bits `i_k` of the index. Dimension 0 is the van der
 /// Corput sequence (`v_{0,k} = 2^{-(k+1)}`, the bit reversal of `i`). Dimensions
-/// `1..16` use the Joe & Kuo parameters[^2] of their file `new-joe-kuo-6.21201`
-/// (their dimensions 2 to 16): a primitive polynomial of degree `s` with inner
+/// `1..1024` use the Joe & Kuo parameters[^2] of their file `new-joe-kuo-6.21201`
+/// (their dimensions 2 to 1024, the file's first 1024 lines, kept verbatim in
+/// the crate with its licence): a primitive polynomial of degree `s` with inner
 /// coefficients `a = a₁…a_{s−1}` (binary) and initial odd integers `m₁…m_s`,
 /// `m_k < 2^k`, extended by the recurrence
 ///
 /// `m_k = 2a₁m_{k−1} ⊕ 2²a₂m_{k−2} ⊕ … ⊕ 2^{s−1}a_{s−1}m_{k−s+1} ⊕ 2^s m_{k−s} ⊕ m_{k−s}`,
 ///
 /// and `v_{d,k} = m_{k+1}/2^{k+1}`. The 32-bit tables are computed by `const fn` at
-/// compile time. Every block of `2^m` consecutive indices starting at a multiple of
+/// compile time from the table text (128 KiB of direction numbers; the first 16
+/// dimensions also get 8 KiB nibble tables for the fills). Every block of `2^m` consecutive indices starting at a multiple of
 /// `2^m` is a `(t, m, s)`-net; dimensions 0 and 1 together are a `(0, m, 2)`-net and
 /// every single dimension is a `(0, m, 1)`-net.
 ///
@@ -318,17 +372,15 @@ impl Sobol<1> {
     /// `⌊scramble_{σ,d}(x_d(scramble_σ(i))) / 2⁸⌋ · 2⁻²⁴` (Burley 2020; see the
     /// [`Sobol`] docs). Every `index` in `0..2³²` is valid.
     ///
-    /// `dim` must be below [`SOBOL_DIMENSIONS`] (debug builds assert); in release
-    /// builds dimension `dim % SOBOL_DIMENSIONS` is used, so the value is still in
-    /// `[0, 1)`. [`Sobol::try_sample`] checks instead.
+    /// # Panics
+    /// If `dim ≥ SOBOL_DIMENSIONS` (1024), in debug and release builds alike:
+    /// there is no dimension to repeat silently. [`Sobol::try_sample`] returns
+    /// an error instead.
     #[inline]
     #[must_use]
+    #[track_caller]
     pub fn sample(index: u32, dim: u32, seed: Seed) -> f32 {
-        debug_assert!(
-            dim < SOBOL_DIMENSIONS,
-            "Sobol::sample: dim = {dim} must be below {SOBOL_DIMENSIONS}"
-        );
-        let dim = dim % SOBOL_DIMENSIONS;
+        assert_dim(dim);
         sample_keyed(index, dim as usize, index_key(seed), value_key(seed, dim))
     }
 
@@ -352,16 +404,26 @@ impl Sobol<1> {
     /// numbers). The point is `sobol_u32(i, d)·2⁻³² ∈ [0, 1)`.
     ///
     /// Points are in direct index order (not Gray-code order): index 0 is 0 in
-    /// every dimension, index 1 is 1/2. `dim` is taken modulo [`SOBOL_DIMENSIONS`].
+    /// every dimension, index 1 is 1/2.
+    ///
+    /// # Panics
+    /// If `dim ≥ SOBOL_DIMENSIONS`, in every build.
     #[must_use]
-    pub const fn sobol_u32(index: u32, dim: u32) -> u32 {
+    #[track_caller]
+    pub fn sobol_u32(index: u32, dim: u32) -> u32 {
+        assert_dim(dim);
         sobol_u32(index, dim)
     }
 
     /// The unscrambled Sobol' value [`Sobol::sobol_u32`] as an `f32`: its top 24 bits,
-    /// `⌊x_d(i)/2⁸⌋·2⁻²⁴ ∈ [0, 1)`. `dim` is taken modulo [`SOBOL_DIMENSIONS`].
+    /// `⌊x_d(i)/2⁸⌋·2⁻²⁴ ∈ [0, 1)`.
+    ///
+    /// # Panics
+    /// If `dim ≥ SOBOL_DIMENSIONS`, in every build.
     #[must_use]
+    #[track_caller]
     pub fn sample_unscrambled(index: u32, dim: u32) -> f32 {
+        assert_dim(dim);
         unit_f32(sobol_u32(index, dim))
     }
 }
@@ -479,7 +541,7 @@ mod tests {
         let mut x = 0x1234_5678u32;
         for _ in 0..2000 {
             x = crate::rng::mix32(x.wrapping_add(0x9E37_79B9));
-            for d in 0..NDIM {
+            for d in 0..NIBBLE_DIMS {
                 let want = sobol_u32(x, d as u32).reverse_bits();
                 assert_eq!(matvec_rev(x.reverse_bits(), d), want);
             }
