@@ -44,7 +44,7 @@ const NDIM: usize = 16;
 
 /// The largest base whose digit permutation is affine (the first 16 bases);
 /// larger bases use a hashed uniform permutation (see [`affine_digit`]).
-const ONE_HASH_MAX_BASE: u32 = 53;
+const AFFINE_MAX_BASE: u32 = 53;
 
 /// The radical inverse `φ_b(i) = Σ_k a_k b^{−(k+1)}` of `index = Σ_k a_k b^k` in base
 /// `base` (van der Corput 1935, Halton 1960): the base-`b` digits of the index
@@ -261,11 +261,7 @@ fn base_of(dim: u32) -> Base {
 #[inline(always)]
 #[track_caller]
 fn assert_dim(dim: u32) {
-    assert!(
-        dim < HALTON_DIMENSIONS,
-        "Halton: dim = {dim} must be below HALTON_DIMENSIONS = {HALTON_DIMENSIONS} \
-         (Halton::try_sample returns an error instead)"
-    );
+    super::assert_sequence_dim("Halton", dim, HALTON_DIMENSIONS);
 }
 
 /// Base constants as an associated constant, for kernels monomorphised per base.
@@ -353,7 +349,7 @@ const fn small_mod(x: u32, b: u32, small: u32) -> u32 {
 /// (bases 269 and 271) at `r = 0.084`, 5.4 standard errors (measured).
 #[inline(always)]
 fn affine_digit(a: u32, b: u32, small: u32, h: u32) -> u32 {
-    if b > ONE_HASH_MAX_BASE {
+    if b > AFFINE_MAX_BASE {
         return crate::hash::permute(a, b, h);
     }
     let x = (h >> 8) * (b - 1);
@@ -879,7 +875,7 @@ mod tests {
             let g = mix32(p ^ dk);
             let x = g ^ digit_key(lambda, k);
             let h = (x ^ (x >> 16)).wrapping_mul(DIGIT_MUL);
-            if base.b > ONE_HASH_MAX_BASE {
+            if base.b > AFFINE_MAX_BASE {
                 return crate::hash::permute(a, base.b, h);
             }
             let tt = (h >> 8) * (base.b - 1);

@@ -926,3 +926,15 @@ mod tests {
         assert!(to_unit_f32(0.5 + (0.5 - 1e-12)) < 1.0);
     }
 }
+
+/// Panics unless `dim < max`, in every build: the random-access sequences
+/// ([`Sobol`], [`Halton`]) never repeat a dimension silently; their
+/// `try_sample` returns an error instead.
+#[inline(always)]
+#[track_caller]
+pub(crate) fn assert_sequence_dim(name: &str, dim: u32, max: u32) {
+    assert!(
+        dim < max,
+        "{name}: dim = {dim} must be below {max} ({name}::try_sample returns an error instead)"
+    );
+}

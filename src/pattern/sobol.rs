@@ -157,11 +157,7 @@ fn sobol_u32(index: u32, dim: u32) -> u32 {
 #[inline(always)]
 #[track_caller]
 fn assert_dim(dim: u32) {
-    assert!(
-        dim < SOBOL_DIMENSIONS,
-        "Sobol: dim = {dim} must be below SOBOL_DIMENSIONS = {SOBOL_DIMENSIONS} \
-         (Sobol::try_sample returns an error instead)"
-    );
+    super::assert_sequence_dim("Sobol", dim, SOBOL_DIMENSIONS);
 }
 
 /// `reverse(x_d(reverse(t)))` from the nibble tables (`t` is a reversed index).
@@ -299,8 +295,8 @@ fn sample_keyed(index: u32, dim: usize, ki: OwenKey, kv: OwenKey) -> f32 {
 ///
 /// and `v_{d,k} = m_{k+1}/2^{k+1}`. The 32-bit tables are computed by `const fn` at
 /// compile time from the table text (128 KiB of direction numbers; the first 16
-/// dimensions also get 8 KiB nibble tables for the fills). Every block of `2^m` consecutive indices starting at a multiple of
-/// `2^m` is a `(t, m, s)`-net; dimensions 0 and 1 together are a `(0, m, 2)`-net and
+/// dimensions also get 8 KiB nibble tables for the fills). Every block of `2^m`
+/// consecutive indices starting at a multiple of `2^m` is a `(t, m, s)`-net; dimensions 0 and 1 together are a `(0, m, 2)`-net and
 /// every single dimension is a `(0, m, 1)`-net.
 ///
 /// # Randomisation
