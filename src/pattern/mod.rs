@@ -772,6 +772,18 @@ pub(crate) fn lanes_of<const D: usize>(f: impl Fn(usize) -> [u32; D]) -> [wide::
 /// one ulp near 1).
 pub(crate) const MAX_STRATA: u64 = 1 << 24;
 
+/// Panics unless `dim < max`, in every build: the random-access sequences
+/// ([`Sobol`], [`Halton`]) never repeat a dimension silently; their
+/// `try_sample` returns an error instead.
+#[inline(always)]
+#[track_caller]
+pub(crate) fn assert_sequence_dim(name: &str, dim: u32, max: u32) {
+    assert!(
+        dim < max,
+        "{name}: dim = {dim} must be below {max} ({name}::try_sample returns an error instead)"
+    );
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -925,16 +937,4 @@ mod tests {
         assert!(to_unit_f32(f64::from(ONE_MINUS_EPSILON)) < 1.0);
         assert!(to_unit_f32(0.5 + (0.5 - 1e-12)) < 1.0);
     }
-}
-
-/// Panics unless `dim < max`, in every build: the random-access sequences
-/// ([`Sobol`], [`Halton`]) never repeat a dimension silently; their
-/// `try_sample` returns an error instead.
-#[inline(always)]
-#[track_caller]
-pub(crate) fn assert_sequence_dim(name: &str, dim: u32, max: u32) {
-    assert!(
-        dim < max,
-        "{name}: dim = {dim} must be below {max} ({name}::try_sample returns an error instead)"
-    );
 }
