@@ -230,6 +230,13 @@ pub enum ParamError {
         /// The rejected value.
         value: usize,
     },
+    /// `name` asks for something this build or this machine does not have.
+    Unavailable {
+        /// Parameter name.
+        name: &'static str,
+        /// What is missing.
+        reason: &'static str,
+    },
 }
 
 impl fmt::Display for ParamError {
@@ -259,6 +266,7 @@ impl fmt::Display for ParamError {
             ParamError::Count { name, value } => {
                 write!(f, "{name} = {value} is not a valid count")
             }
+            ParamError::Unavailable { name, reason } => write!(f, "{name}: {reason}"),
         }
     }
 }

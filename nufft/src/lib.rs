@@ -398,7 +398,10 @@ impl Kernel {
     }
 }
 
-/// Horner evaluation of all taps at `s`, four taps per `f64x4`.
+/// Horner evaluation of all taps at `s`, four taps per `f64x4` (multiply and
+/// add unfused, as in `axpy_row`: `wide`'s `mul_add` is fused only where FMA
+/// is enabled at compile time, so a fused step would change the bits with the
+/// build).
 #[inline(always)]
 fn horner<const NV: usize>(coeffs: &[f64x4], degree: usize, s: f64) -> [f64x4; NV] {
     let sv = f64x4::splat(s);
@@ -407,7 +410,7 @@ fn horner<const NV: usize>(coeffs: &[f64x4], degree: usize, s: f64) -> [f64x4; N
     for k in (0..degree).rev() {
         let c = &coeffs[k * NV..k * NV + NV];
         for v in 0..NV {
-            acc[v] = acc[v].mul_add(sv, c[v]);
+            acc[v] = acc[v] * sv + c[v];
         }
     }
     acc
@@ -419,7 +422,7 @@ fn axpy_row<const NV: usize>(row: &mut [f64], a: f64, ker: &[f64x4; NV]) {
     let av = f64x4::splat(a);
     for (chunk, kv) in row.chunks_exact_mut(4).zip(ker.iter()) {
         let g = f64x4::new([chunk[0], chunk[1], chunk[2], chunk[3]]);
-        let r = kv.mul_add(av, g);
+        let r = *kv * av + g;
         chunk.copy_from_slice(&r.to_array());
     }
 }

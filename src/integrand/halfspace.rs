@@ -52,11 +52,10 @@
 use super::{check_dim, check_finite, Complex, Integrand};
 use crate::error::ParamError;
 use crate::geom::{for_each_piece, Direction};
-use crate::num::lane::{load8, store8, F32Lane, LANES};
+use crate::num::lane::F32Lane;
 use crate::num::{cis_turns, frac, Dd};
 use crate::primitive::{Rays32, Segment};
 use crate::world::plane;
-use wide::f32x8;
 
 /// `1[n·x ≥ h] · 1[x ∈ [0, 1)^D]`, periodised as `F(frac(x))`: a straight edge
 /// with unit normal `n` at signed offset `h`, restricted to the unit box.
@@ -401,28 +400,7 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let len = rays.check(out.len())?;
-        let mut i = 0;
-        while i + LANES <= len {
-            let o: [f32x8; D] = core::array::from_fn(|j| load8(rays.origin[j], i));
-            let d: [f32x8; D] = core::array::from_fn(|j| load8(rays.dir[j], i));
-            let r = kernel::<f32x8, D>(
-                &self.n32,
-                self.h32,
-                o,
-                d,
-                load8(rays.t0, i),
-                load8(rays.t1, i),
-            );
-            store8(out, i, r);
-            i += LANES;
-        }
-        for i in i..len {
-            let o = core::array::from_fn(|j| rays.origin[j][i]);
-            let d = core::array::from_fn(|j| rays.dir[j][i]);
-            out[i] = self.segment_free_f32(o, d, rays.t0[i], rays.t1[i]);
-        }
-        Ok(())
+        crate::world::ray_batch(&FreeK32(self.n32, self.h32), rays, out)
     }
 
     /// `F(frac(x))`.
@@ -544,7 +522,17 @@ impl<const D: usize> Integrand<D> for HalfSpace<D> {
     }
 }
 
-/// The `f32` segment kernel, written once for `f32` and `f32x8` (same operations
+/// The free-space `f32` segment length as a [`crate::world::RayKernel32`].
+struct FreeK32<const D: usize>([f32; D], f32);
+
+impl<const D: usize> crate::world::RayKernel32<D> for FreeK32<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        kernel::<L, D>(&self.0, self.1, o, d, t0, t1)
+    }
+}
+
+/// The `f32` segment kernel, written once over lane types (same operations
 /// in the same order, so the SIMD lanes equal the scalar twin bit for bit).
 #[inline(always)]
 fn kernel<L: F32Lane, const D: usize>(

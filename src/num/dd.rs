@@ -30,18 +30,82 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (s, e)
 }
 
-/// `(p, e)` with `p = fl(a·b)` and `p + e = a·b` exactly (FMA-based TwoProd;
-/// exact unless `a·b` overflows or `e` underflows, i.e. for
-/// `|a·b| ≥ 2⁻⁹⁶⁹`). `libm::fma` is correctly rounded and uses the hardware
-/// instruction where the target has one (`vfmadd` on x86-64 with FMA); a
-/// Veltkamp-split Dekker product was measured 15–20 % slower on the chord
-/// closed form.
+/// `(p, e)` with `p = fl(a·b)` and `p + e = a·b` exactly (TwoProd; exact
+/// unless `a·b` overflows or `e` underflows, i.e. for `|a·b| ≥ 2⁻⁹⁶⁹`).
+///
+/// The same bits in every build, by two exact algorithms:
+///
+/// * where the target has FMA at compile time (x86-64-v3, aarch64):
+///   `e = fma(a, b, −p)`, one instruction;
+/// * otherwise Dekker's product (Dekker 1971, with Veltkamp's splitting
+///   `a = a_h + a_l` into 26-bit halves by `C = 2²⁷ + 1`): `e = ((a_h b_h − p) +
+///   a_h b_l + a_l b_h) + a_l b_l`, 17 operations and no call. It is exact when
+///   `|a|, |b| ≤ 2⁹⁹⁵` (the split does not overflow) and `2⁻⁹⁶⁰ ≤ |p| < ∞` (no
+///   partial product underflows); outside that range, and for zeros, NaN and
+///   infinities, the correctly rounded `libm::fma(a, b, −p)`, which is what
+///   the instruction returns. Both give `e = a·b − p` whenever it is
+///   representable, so the two builds agree bit for bit (`tests/num.rs`
+///   compares them with `libm::fma` over edge cases and random inputs).
+///
+/// Why not `libm::fma` always: without the instruction it is a software
+/// routine, about 35× slower than the product it corrects, and the exact
+/// closed forms call this a few dozen times per chord.
 #[inline(always)]
 #[must_use]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
-    let e = crate::num::scalar::fma(a, b, -p);
-    (p, e)
+    #[cfg(any(
+        all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "fma"
+        ),
+        all(target_arch = "aarch64", target_feature = "neon")
+    ))]
+    {
+        (p, crate::num::scalar::fma(a, b, -p))
+    }
+    #[cfg(not(any(
+        all(
+            any(target_arch = "x86", target_arch = "x86_64"),
+            target_feature = "fma"
+        ),
+        all(target_arch = "aarch64", target_feature = "neon")
+    )))]
+    {
+        (p, dekker_err(a, b, p))
+    }
+}
+
+/// `2⁹⁹⁵`: below this, Veltkamp's split `C·a` (`C = 2²⁷ + 1`) cannot overflow.
+const SPLIT_MAX: f64 = 3.2e299; // < 2⁹⁹⁵ ≈ 3.33e299
+/// `2⁻⁹⁶⁰`: above this, no partial product of Dekker's algorithm underflows.
+const DEKKER_MIN: f64 = 1.1e-289; // > 2⁻⁹⁶⁰ ≈ 1.026e-289
+
+/// `a·b − p` for `p = fl(a·b)`, exactly, by Dekker's product where it is
+/// exact and `libm::fma` elsewhere (see [`two_prod`]). Compiled in every build
+/// so that the tests can compare it with the FMA on any machine.
+#[doc(hidden)]
+#[inline(always)]
+#[must_use]
+pub fn dekker_err(a: f64, b: f64, p: f64) -> f64 {
+    let ap = p.abs();
+    if (DEKKER_MIN..=f64::MAX).contains(&ap) && a.abs() <= SPLIT_MAX && b.abs() <= SPLIT_MAX {
+        let (ah, al) = veltkamp(a);
+        let (bh, bl) = veltkamp(b);
+        ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    } else {
+        libm::fma(a, b, -p)
+    }
+}
+
+/// Veltkamp's split: `a = h + l` with `h` of at most 26 significant bits and
+/// `l` of at most 26 (exact for `|a| ≤ 2⁹⁹⁵`).
+#[inline(always)]
+fn veltkamp(a: f64) -> (f64, f64) {
+    const C: f64 = 134_217_729.0; // 2²⁷ + 1
+    let t = C * a;
+    let h = t - (t - a);
+    (h, a - h)
 }
 
 /// A double-double number `hi + lo` with `|lo| ≤ ulp(hi)/2`.
@@ -175,7 +239,7 @@ impl Dd {
     }
 
     /// `1/self` by one Newton step from `q₁ = fl(1/hi)`: the remainder
-    /// `1 − hi·q₁` is exact (one FMA), `r = (1 − hi·q₁) − lo·q₁`, and
+    /// `1 − hi·q₁` is exact (an exact product), `r = (1 − hi·q₁) − lo·q₁`, and
     /// `q₁ + q₁·r` as a double-double. Since `y(q₁ + q₁r) = 1 − (1 − yq₁)²`
     /// up to the roundings of `r` and `q₁r`, the relative error is
     /// `≤ (2u)² + 4u² = 8u²` — a few times cheaper than [`Dd::div`] by
@@ -188,7 +252,10 @@ impl Dd {
         if !q1.is_finite() {
             return Self::new(q1);
         }
-        let e = crate::num::scalar::fma(-self.hi, q1, 1.0);
+        // 1 − hi·q₁ is representable (q₁ is the rounded reciprocal), and
+        // 1 − p is exact (p ∈ [½, 2], Sterbenz), so this is its exact value.
+        let (p, pe) = two_prod(self.hi, q1);
+        let e = (1.0 - p) - pe;
         let r = e - self.lo * q1;
         let (hi, lo) = two_sum(q1, q1 * r);
         Self { hi, lo }

@@ -2,7 +2,9 @@
 //! `linesample-scene`, whose effects are written in it too) is written once, generic over [`Lane`], and instantiated for a scalar (the reference
 //! path, always compiled and tested) and for a `wide` vector (the SIMD path):
 //! `f32`/`f32x8` for the `f32` closed forms ([`F32Lane`]), `f64`/`f64x4` for the
-//! periodogram kernels ([`F64Lane`]). The hash permutations' Feistel rounds
+//! periodogram kernels ([`F64Lane`]); with `std` in a build without AVX2 also
+//! for `num::avx2`'s 256-bit types, which [`crate::simd::dispatch`] selects at
+//! run time. The hash permutations' Feistel rounds
 //! are generic over [`IntLane`] (`u32x8`, and `u16x16` for small domains);
 //! their scalar reference is `hash::permute`.
 //!
@@ -11,10 +13,11 @@
 //!
 //! * `+ − × ÷`, `sqrt` and `floor` are correctly rounded everywhere;
 //! * `min`/`max` follow the x86 `minps`/`maxps` rule (`a < b ? a : b`) in both;
-//! * [`Lane::fma`] is always **fused** (one rounding): `wide`'s `mul_add` where
-//!   the target has FMA, and the correctly rounded `libm::fma`/`fmaf` lane by
-//!   lane otherwise (an unfused `a·b + c` would differ between the SSE2 and the
-//!   AVX2 build). The `f32` closed forms use no `fma` at all.
+//! * there is **no fused multiply-add**: `wide`'s `mul_add` is fused only where
+//!   FMA is enabled at compile time (so its bits change with the build), and a
+//!   correctly rounded software `fma` costs about 35× a multiply and an add.
+//!   Kernels write `a * b + c`; the exact products of the double-double
+//!   arithmetic use `num::two_prod`, which is exact in every build.
 
 use core::ops::{Add, BitAnd, BitOr, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
 use wide::{f32x8, f64x4, i32x8, u16x16, u32x8};
@@ -66,8 +69,6 @@ pub trait Lane:
     fn any(m: Self::Mask) -> bool;
     /// `a && b`, lane by lane.
     fn and(a: Self::Mask, b: Self::Mask) -> Self::Mask;
-    /// `a·b + c` with one rounding.
-    fn fma(a: Self, b: Self, c: Self) -> Self;
     /// `self < o ? a : b`, lane by lane.
     #[inline(always)]
     fn lt_select(self, o: Self, a: Self, b: Self) -> Self {
@@ -92,7 +93,7 @@ pub trait F64Lane: Lane<Scalar = f64> {
 
 /// The scalar instantiation of the comparisons and selections (`minps` rule).
 macro_rules! scalar_lane {
-    ($t:ty, $sqrt:path, $abs:path, $floor:path, $fma:path) => {
+    ($t:ty, $sqrt:path, $abs:path, $floor:path) => {
         impl Lane for $t {
             type Scalar = $t;
             type Mask = bool;
@@ -165,32 +166,16 @@ macro_rules! scalar_lane {
             fn and(a: bool, b: bool) -> bool {
                 a && b
             }
-            #[inline(always)]
-            fn fma(a: Self, b: Self, c: Self) -> Self {
-                $fma(a, b, c)
-            }
         }
     };
 }
 
-scalar_lane!(
-    f32,
-    crate::num::scalar::sqrt32,
-    libm::fabsf,
-    libm::floorf,
-    libm::fmaf
-);
-scalar_lane!(
-    f64,
-    libm::sqrt,
-    libm::fabs,
-    libm::floor,
-    crate::num::scalar::fma
-);
+scalar_lane!(f32, crate::num::scalar::sqrt32, libm::fabsf, libm::floorf);
+scalar_lane!(f64, libm::sqrt, libm::fabs, libm::floor);
 
 /// The vector instantiation (`wide`).
 macro_rules! vector_lane {
-    ($v:ty, $t:ty, $n:expr, $fma:path) => {
+    ($v:ty, $t:ty, $n:expr) => {
         impl Lane for $v {
             type Scalar = $t;
             type Mask = $v;
@@ -252,26 +237,12 @@ macro_rules! vector_lane {
             fn and(a: $v, b: $v) -> $v {
                 a & b
             }
-            #[inline(always)]
-            fn fma(a: Self, b: Self, c: Self) -> Self {
-                #[cfg(all(target_feature = "avx", target_feature = "fma"))]
-                {
-                    a.mul_add(b, c)
-                }
-                #[cfg(not(all(target_feature = "avx", target_feature = "fma")))]
-                {
-                    let (a, b, c) = (a.to_array(), b.to_array(), c.to_array());
-                    <$v>::from(core::array::from_fn::<$t, $n, _>(|l| {
-                        $fma(a[l], b[l], c[l])
-                    }))
-                }
-            }
         }
     };
 }
 
-vector_lane!(f32x8, f32, 8, libm::fmaf);
-vector_lane!(f64x4, f64, 4, libm::fma);
+vector_lane!(f32x8, f32, 8);
+vector_lane!(f64x4, f64, 4);
 
 impl F32Lane for f32 {
     #[inline(always)]
@@ -385,15 +356,15 @@ mod tests {
         let mn = Lane::min(va, vb).to_array();
         let mx = Lane::max(va, vb).to_array();
         let fl = Lane::floor(va).to_array();
-        let fm = <f32x8 as Lane>::fma(va, vb, vc).to_array();
+        let ma = (va * vb + vc).to_array();
         let sq = Lane::sqrt(Lane::abs(va)).to_array();
         let sel = <f32x8 as Lane>::select(va.lt(vb), va, vb).to_array();
         for l in 0..8 {
             assert_eq!(mn[l].to_bits(), Lane::min(a[l], b[l]).to_bits(), "min {l}");
             assert_eq!(mx[l].to_bits(), Lane::max(a[l], b[l]).to_bits(), "max {l}");
             assert_eq!(fl[l].to_bits(), Lane::floor(a[l]).to_bits(), "floor {l}");
-            let f = <f32 as Lane>::fma(a[l], b[l], c[l]);
-            assert_eq!(fm[l].to_bits(), f.to_bits(), "fma {l}");
+            let f = a[l] * b[l] + c[l];
+            assert_eq!(ma[l].to_bits(), f.to_bits(), "mul-add {l}");
             assert_eq!(
                 sq[l].to_bits(),
                 libm::sqrtf(a[l].abs()).to_bits(),
@@ -417,18 +388,18 @@ mod tests {
             <f64x4 as Lane>::load(&z),
         );
         let mut out = [0.0f64; 4];
-        <f64x4 as Lane>::fma(vx, vy, vz).store(&mut out);
+        (vx * vy + vz).store(&mut out);
         let sel = vx.lt_select(vy, vx, vz).to_array();
         for l in 0..4 {
-            // The fused product keeps the −ε² that an unfused one rounds away.
             assert_eq!(
                 out[l].to_bits(),
-                crate::num::scalar::fma(x[l], y[l], z[l]).to_bits(),
-                "fma {l}"
+                (x[l] * y[l] + z[l]).to_bits(),
+                "mul-add {l}"
             );
             let s = <f64 as Lane>::lt_select(x[l], y[l], x[l], z[l]);
             assert_eq!(sel[l].to_bits(), s.to_bits(), "lt_select {l}");
         }
-        assert_eq!(out[0], -f64::EPSILON * f64::EPSILON);
+        // Unfused in every build: the −ε² of the exact product is rounded away.
+        assert_eq!(out[0], 0.0);
     }
 }

@@ -11,11 +11,20 @@
 //! * `lane` (crate-private): the one SIMD lane abstraction behind every `f32`
 //!   and `f64` batch kernel (scalar reference path and `wide` vectors), and
 //!   the integer lanes of the hash permutations.
+//! * [`avx2`] (`std` on `x86_64`, in builds without AVX2): the 256-bit lane
+//!   types of the run-time dispatched kernels ([`crate::simd`]).
 //!
 //! The error bounds stated here are tested against exact rational and exact
 //! integer arithmetic (`tests/num.rs`), not against these functions
 //! themselves. The derivations are in `docs/theory.md` (Numerical methods).
 
+#[cfg(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[allow(unsafe_code)]
+pub mod avx2;
 pub mod complex;
 pub mod dd;
 pub mod lane;

@@ -523,6 +523,7 @@ mod imp {
             self.n as u64
         }
 
+        #[inline(always)]
         fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
             let r = self.generate(seed);
             let first = first as usize;

@@ -813,6 +813,7 @@ impl<const D: usize> Generate<D> for Halton<D> {
         self.n
     }
 
+    #[inline(always)]
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let keys: [DimKeys; D] = core::array::from_fn(|j| DimKeys::new(seed, j as u32));
         let n = sink.len();

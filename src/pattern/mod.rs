@@ -337,6 +337,25 @@ pub(crate) fn drive8<const D: usize, S: Sink<D>>(
     }
 }
 
+/// A pattern fill as one dispatched call ([`crate::simd::dispatch`]).
+struct Fill<'a, const D: usize, G, S> {
+    gen: &'a G,
+    seed: Seed,
+    first: u64,
+    sink: &'a mut S,
+}
+
+impl<const D: usize, G: Generate<D>, S: Sink<D>> crate::simd::Kernel for Fill<'_, D, G, S> {
+    type Output = ();
+    #[inline(always)]
+    fn run<I: crate::simd::Isa>(self) {
+        // The generators are written over `wide`'s types directly: the AVX2
+        // copy compiles them with VEX encodings and SSE4.1 integer products,
+        // still in 128-bit halves.
+        self.gen.gen_simd(self.seed, self.first, self.sink);
+    }
+}
+
 impl<const D: usize, G: Generate<D>> Pattern<D> for G {
     fn len(&self) -> usize {
         self.n() as usize
@@ -349,7 +368,12 @@ impl<const D: usize, G: Generate<D>> Pattern<D> for G {
         out: &mut [[f32; D]],
     ) -> Result<(), PatternError> {
         check_range(self.n(), first, out.len())?;
-        self.gen_simd(seed, first as u64, &mut Aos(out));
+        crate::simd::dispatch(Fill {
+            gen: self,
+            seed,
+            first: first as u64,
+            sink: &mut Aos(out),
+        });
         Ok(())
     }
 
@@ -372,7 +396,12 @@ impl<const D: usize, G: Generate<D>> Pattern<D> for G {
     ) -> Result<(), PatternError> {
         let len = soa_len(&out)?;
         check_range(self.n(), first, len)?;
-        self.gen_simd(seed, first as u64, &mut Soa(out));
+        crate::simd::dispatch(Fill {
+            gen: self,
+            seed,
+            first: first as u64,
+            sink: &mut Soa(out),
+        });
         Ok(())
     }
 }

@@ -87,6 +87,7 @@ impl Grid {
         (kx, ky, step)
     }
 
+    #[inline(always)]
     fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
         if !self.correlated && in_sixteen_bits(self.rows) && in_sixteen_bits(self.cols) {
             self.gen_mj16(seed, first, sink);
@@ -503,6 +504,7 @@ macro_rules! grid_pattern {
             fn n(&self) -> u64 {
                 self.grid.n()
             }
+            #[inline(always)]
             fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
                 self.grid.gen_simd(seed, first, sink)
             }

@@ -140,6 +140,7 @@ impl<const D: usize> Generate<D> for NRooks<D> {
         u64::from(self.n)
     }
 
+    #[inline(always)]
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let d = D as u64;

@@ -448,6 +448,7 @@ impl<const D: usize> Generate<D> for Sobol<D> {
         self.n
     }
 
+    #[inline(always)]
     fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let ki = index_key(seed);
         let kv: [OwenKey; D] = core::array::from_fn(|j| value_key(seed, j as u32));

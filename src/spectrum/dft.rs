@@ -8,7 +8,6 @@ use crate::num::lane::F64Lane;
 use crate::num::{cis_turns, frac_centered, Complex, Dd};
 use crate::primitive::Segment;
 use core::f64::consts::TAU;
-use wide::f64x4;
 
 /// Tiles (of [`TILE`] columns) per column block: the column tables of one
 /// block stay in L2 while every row runs over them.
@@ -123,7 +122,7 @@ fn fill_row_table(
 /// Storage is the caller's buffer `B` (`&mut [f64]`, or `Vec<f64>` with the
 /// `alloc` feature) of [`Dft::buffer_len`] values. Feeding a realisation in
 /// chunks gives **bit-identical** amplitudes for any chunk size (each amplitude
-/// is one fused multiply-add chain over the samples, in sample order), and the
+/// is one multiply-and-add chain over the samples, in sample order), and the
 /// SIMD and scalar paths agree bit for bit. The amplitudes, the power and the
 /// ring means of the realisation are read through [`AmplitudeView`].
 ///
@@ -216,7 +215,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
     /// `scratch` holds the per-chunk phase tables; its length sets the chunk
     /// size `c = scratch.len() / points_scratch_per_sample(grid)` (at least 1;
     /// 64–256 is fastest). The result does not depend on `c`. Runs the SIMD
-    /// path (`f64x4`, fused multiply-adds).
+    /// path (`f64x4` multiply-adds, unfused).
     ///
     /// # Errors
     /// [`SpectrumError::NonFinite`] (naming `points` and the index) if a
@@ -227,7 +226,11 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         points: &[[T; D]],
         scratch: &mut [f64],
     ) -> Result<(), SpectrumError> {
-        self.add_points_lane::<f64x4, T>(points, scratch)
+        crate::simd::dispatch(AddPoints {
+            dft: self,
+            points,
+            scratch,
+        })
     }
 
     /// [`Dft::add_points`] on the scalar reference path (bit-identical).
@@ -242,6 +245,9 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         self.add_points_lane::<f64, T>(points, scratch)
     }
 
+    // `#[inline(always)]` down to the lane operations: the AVX2 copy
+    // (`simd::dispatch`) must compile all of it with AVX2 enabled.
+    #[inline(always)]
     fn add_points_lane<L: F64Lane, T: Coordinate>(
         &mut self,
         points: &[[T; D]],
@@ -266,6 +272,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         Ok(())
     }
 
+    #[inline(always)]
     fn points_chunk<L: F64Lane, T: Coordinate>(&mut self, pts: &[[T; D]], scratch: &mut [f64]) {
         let g = self.grid;
         let k = g.half_width();
@@ -360,7 +367,12 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         segments: &[Segment<D>],
         scratch: &mut [f64],
     ) -> Result<(), SpectrumError> {
-        self.segments_lane::<f64x4>(segments.len(), segment_parts(segments), scratch)
+        crate::simd::dispatch(AddSegments {
+            dft: self,
+            n: segments.len(),
+            seg: segment_parts(segments),
+            scratch,
+        })
     }
 
     /// Segments of one direction and length centred at the points of a
@@ -378,11 +390,13 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         scratch: &mut [f64],
     ) -> Result<(), SpectrumError> {
         let length = crate::primitive::check_length(length)?;
-        self.segments_lane::<f64x4>(
-            centres.len(),
-            |i| (centres[i].map(Coordinate::to_f64), *dir, length),
+        let dir = *dir;
+        crate::simd::dispatch(AddSegments {
+            dft: self,
+            n: centres.len(),
+            seg: move |i: usize| (centres[i].map(Coordinate::to_f64), dir, length),
             scratch,
-        )
+        })
     }
 
     /// [`Dft::add_segments`] on the scalar reference path (bit-identical).
@@ -397,6 +411,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         self.segments_lane::<f64>(segments.len(), segment_parts(segments), scratch)
     }
 
+    #[inline(always)]
     fn segments_lane<L: F64Lane>(
         &mut self,
         n: usize,
@@ -424,6 +439,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
         Ok(())
     }
 
+    #[inline(always)]
     fn segments_chunk<L: F64Lane>(
         &mut self,
         first: usize,
@@ -491,6 +507,46 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Dft<D, B> {
             }
             t0 = t1;
         }
+    }
+}
+
+/// [`Dft::add_points`] as one dispatched call ([`crate::simd::dispatch`]).
+struct AddPoints<'a, const D: usize, B, T> {
+    dft: &'a mut Dft<D, B>,
+    points: &'a [[T; D]],
+    scratch: &'a mut [f64],
+}
+
+impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>, T: Coordinate> crate::simd::Kernel
+    for AddPoints<'_, D, B, T>
+{
+    type Output = Result<(), SpectrumError>;
+    #[inline(always)]
+    fn run<I: crate::simd::Isa>(self) -> Self::Output {
+        self.dft
+            .add_points_lane::<I::F64, T>(self.points, self.scratch)
+    }
+}
+
+/// [`Dft::add_segments`] and [`Dft::add_segment_pattern`] as one dispatched
+/// call: segment `i` is `seg(i)` (centre, direction, length).
+struct AddSegments<'a, const D: usize, B, F> {
+    dft: &'a mut Dft<D, B>,
+    n: usize,
+    seg: F,
+    scratch: &'a mut [f64],
+}
+
+impl<const D: usize, B, F> crate::simd::Kernel for AddSegments<'_, D, B, F>
+where
+    B: AsRef<[f64]> + AsMut<[f64]>,
+    F: Fn(usize) -> ([f64; D], Direction<D>, f64),
+{
+    type Output = Result<(), SpectrumError>;
+    #[inline(always)]
+    fn run<I: crate::simd::Isa>(self) -> Self::Output {
+        self.dft
+            .segments_lane::<I::F64>(self.n, self.seg, self.scratch)
     }
 }
 
@@ -663,8 +719,10 @@ fn seg_row_coefficient<const D: usize>(
 }
 
 /// One tile of `R` rows × [`TILE`] columns: for each sample `k` in order,
-/// `F += g_k·c_k` as the fused chain `re = fma(g_r, c_r, re); re = fma(−g_i,
-/// c_i, re); im = fma(g_r, c_i, im); im = fma(g_i, c_r, im)`.
+/// `F += g_k·c_k` as the chain `re = re + g_r·c_r; re = re − g_i·c_i;
+/// im = im + g_r·c_i; im = im + g_i·c_r` (each product and sum rounded, never
+/// fused: the same bits in every build, and no software `fma` where the
+/// target lacks the instruction).
 #[inline(always)]
 fn tile_points<L: F64Lane, const R: usize>(
     f_re: &mut [f64],
@@ -692,12 +750,12 @@ fn tile_points<L: F64Lane, const R: usize>(
                 let gr = L::splat(gk[2 * q]);
                 let gi = L::splat(gk[2 * q + 1]);
                 let mut re = ar[q][v];
-                re = L::fma(gr, cr, re);
-                re = L::fma(-gi, ci, re);
+                re = re + gr * cr;
+                re = re - gi * ci;
                 ar[q][v] = re;
                 let mut im = ai[q][v];
-                im = L::fma(gr, ci, im);
-                im = L::fma(gi, cr, im);
+                im = im + gr * ci;
+                im = im + gi * cr;
                 ai[q][v] = im;
             }
         }
@@ -727,7 +785,7 @@ const SINC_SERIES: [f64; 9] = [
 
 /// One row × [`TILE`] columns of segment samples: `sin X = Im(v_row·v_col)`,
 /// `X = X_row + X_col`, weight `w = sin X / X` (series below `|X| = 1/2`), then
-/// `F += (w·u_row)·u_col` as the fused chain of [`tile_points`].
+/// `F += (w·u_row)·u_col` as the chain of [`tile_points`].
 #[inline(always)]
 fn tile_segments<L: F64Lane>(
     f_re: &mut [f64],
@@ -760,17 +818,17 @@ fn tile_segments<L: F64Lane>(
             let z = x * x;
             let mut series = L::splat(SINC_SERIES[8]);
             for c in SINC_SERIES[..8].iter().rev() {
-                series = L::fma(series, z, L::splat(*c));
+                series = series * z + L::splat(*c);
             }
             let weight = x.abs().lt_select(half, series, sin_x / x);
-            // F += (w·u_row)·u_col as the fused chain of the point path, so a
+            // F += (w·u_row)·u_col as the chain of the point path, so a
             // weight of exactly 1 reproduces the point amplitudes bit for bit.
             let (gr, gi) = (ur * weight, ui * weight);
-            let mut re = L::fma(gr, cur, ar[v]);
-            re = L::fma(-gi, cui, re);
+            let mut re = ar[v] + gr * cur;
+            re = re - gi * cui;
             ar[v] = re;
-            let mut im = L::fma(gr, cui, ai[v]);
-            im = L::fma(gi, cur, im);
+            let mut im = ai[v] + gr * cui;
+            im = im + gi * cur;
             ai[v] = im;
         }
     }

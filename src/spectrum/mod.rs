@@ -47,7 +47,8 @@
 //! high frequencies stay accurate), and the accumulation is a complex
 //! matrix product `F[row, col] += Σ_k g_k(row)·c_k(col)` (rows: all axes but
 //! the last; columns: the last axis), blocked for cache and registers and
-//! vectorised over columns with `f64x4` fused multiply-adds. A long 1D grid
+//! vectorised over columns with `f64x4` multiply-adds (unfused, so the same
+//! bits and nearly the same speed in a build without FMA). A long 1D grid
 //! is split the same way, `j = 64a + b` (row phasor `e^{−2πi·a·64x}`, column
 //! phasor `e^{−2πi·b·x}`). Cost: about `N·|grid|` complex multiply-adds.
 //!

@@ -14,12 +14,12 @@
 
 use super::{check_dim, check_finite, check_range, Ray};
 use crate::error::ParamError;
-use crate::num::lane::{load8, store8, F32Lane, F64Lane, LANES};
+use crate::num::lane::{F32Lane, F64Lane};
 use crate::num::Dd;
 use crate::primitive::Rays32;
 use crate::special::{erfcx, erfcx_lane, exp_neg_dd, exp_neg_lane, gauss_mid};
 use core::f64::consts::{SQRT_2, TAU};
-use wide::{f32x8, f64x4};
+use wide::f64x4;
 
 /// `√π/2`.
 const SQRT_PI_HALF: f64 = 0.886_226_925_452_758;
@@ -536,13 +536,7 @@ impl<const D: usize> Gaussian<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let k = self.consts32();
-        batch(
-            rays,
-            out,
-            |o, d, t0, t1| kernel32::<f32x8, D>(&k, o, d, t0, t1),
-            |o, d, t0, t1| kernel32::<f32, D>(&k, o, d, t0, t1),
-        )
+        super::ray_batch(&SegK32(self.consts32()), rays, out)
     }
 
     /// `f32` transmittance `e^{−σ_t·∫F}` along `o + t·d`, `t ∈ [t0, t1]`: the
@@ -573,13 +567,7 @@ impl<const D: usize> Gaussian<D> {
         sigma_t: f32,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let k = self.consts32();
-        batch(
-            rays,
-            out,
-            |o, d, t0, t1| transmit32::<f32x8, D>(&k, o, d, t0, t1, sigma_t),
-            |o, d, t0, t1| transmit32::<f32, D>(&k, o, d, t0, t1, sigma_t),
-        )
+        super::ray_batch(&TransmitK32(self.consts32(), sigma_t), rays, out)
     }
 }
 
@@ -748,29 +736,24 @@ pub(crate) fn far_kernel<L: F64Lane, const D: usize>(c: &FarConsts<D>, y: [L; D]
     (v, L::select(usable, rel, L::splat(f64::INFINITY)))
 }
 
-/// Runs an 8-lane kernel over full blocks of a ray batch and its scalar twin
-/// over the tail.
-#[inline(always)]
-pub(crate) fn batch<const D: usize>(
-    rays: &Rays32<'_, D>,
-    out: &mut [f32],
-    simd: impl Fn([f32x8; D], [f32x8; D], f32x8, f32x8) -> f32x8,
-    scalar: impl Fn([f32; D], [f32; D], f32, f32) -> f32,
-) -> Result<(), ParamError> {
-    let n = rays.check(out.len())?;
-    let mut i = 0;
-    while i + LANES <= n {
-        let o: [f32x8; D] = core::array::from_fn(|j| load8(rays.origin[j], i));
-        let d: [f32x8; D] = core::array::from_fn(|j| load8(rays.dir[j], i));
-        store8(out, i, simd(o, d, load8(rays.t0, i), load8(rays.t1, i)));
-        i += LANES;
+/// The `f32` segment integral as a [`super::RayKernel32`].
+struct SegK32<const D: usize>(Consts32<D>);
+
+impl<const D: usize> super::RayKernel32<D> for SegK32<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        kernel32::<L, D>(&self.0, o, d, t0, t1)
     }
-    for i in i..n {
-        let o = core::array::from_fn(|j| rays.origin[j][i]);
-        let d = core::array::from_fn(|j| rays.dir[j][i]);
-        out[i] = scalar(o, d, rays.t0[i], rays.t1[i]);
+}
+
+/// The `f32` transmittance with `σ_t` as a [`super::RayKernel32`].
+struct TransmitK32<const D: usize>(Consts32<D>, f32);
+
+impl<const D: usize> super::RayKernel32<D> for TransmitK32<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        transmit32::<L, D>(&self.0, o, d, t0, t1, self.1)
     }
-    Ok(())
 }
 
 /// `e^{−σ_t·∫F}` from the segment kernel (the optical depth is `≥ 0` for
@@ -887,6 +870,7 @@ pub(crate) fn kernel32<L: F32Lane, const D: usize>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wide::f32x8;
 
     #[test]
     fn kernels_agree_scalar_simd() {

@@ -194,3 +194,62 @@ pub fn check_range(name: &'static str, x: f64, min: f64, max: f64) -> Result<f64
     }
     Ok(x)
 }
+
+/// An `f32` closed form along rays `o + t·d`, `t ∈ [t0, t1]`, written once
+/// over lane types: the scalar twin (`L = f32`) and the 8-lane batches of
+/// [`ray_batch`] (`wide`'s `f32x8`, or AVX2's at run time).
+pub(crate) trait RayKernel32<const D: usize> {
+    /// The value for each lane's ray.
+    fn eval<L: crate::num::lane::F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L;
+}
+
+/// Runs `k` over a ray batch: 8-lane blocks at the [`crate::simd::level`],
+/// the tail through the scalar twin (the same bits either way).
+///
+/// # Errors
+/// [`ParamError::Length`] if the slices differ in length.
+pub(crate) fn ray_batch<const D: usize, K: RayKernel32<D>>(
+    k: &K,
+    rays: &Rays32<'_, D>,
+    out: &mut [f32],
+) -> Result<(), ParamError> {
+    let n = rays.check(out.len())?;
+    crate::simd::dispatch(RayBatch {
+        k,
+        rays,
+        out: &mut out[..n],
+    });
+    Ok(())
+}
+
+/// [`ray_batch`] as one dispatched call.
+struct RayBatch<'a, 'r, const D: usize, K> {
+    k: &'a K,
+    rays: &'a Rays32<'r, D>,
+    out: &'a mut [f32],
+}
+
+impl<const D: usize, K: RayKernel32<D>> crate::simd::Kernel for RayBatch<'_, '_, D, K> {
+    type Output = ();
+    #[inline(always)]
+    fn run<I: crate::simd::Isa>(self) {
+        use crate::num::lane::Lane;
+        let (rays, out) = (self.rays, self.out);
+        let n = out.len();
+        let w = <I::F32 as Lane>::LANES;
+        let mut i = 0;
+        while i + w <= n {
+            let o: [I::F32; D] = core::array::from_fn(|j| Lane::load(&rays.origin[j][i..]));
+            let d: [I::F32; D] = core::array::from_fn(|j| Lane::load(&rays.dir[j][i..]));
+            let t0 = Lane::load(&rays.t0[i..]);
+            let t1 = Lane::load(&rays.t1[i..]);
+            self.k.eval::<I::F32>(o, d, t0, t1).store(&mut out[i..]);
+            i += w;
+        }
+        for i in i..n {
+            let o = core::array::from_fn(|j| rays.origin[j][i]);
+            let d = core::array::from_fn(|j| rays.dir[j][i]);
+            out[i] = self.k.eval::<f32>(o, d, rays.t0[i], rays.t1[i]);
+        }
+    }
+}

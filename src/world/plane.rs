@@ -24,7 +24,6 @@ use crate::geom::Direction;
 use crate::num::lane::F32Lane;
 use crate::num::{sum_accurate, two_prod, Dd};
 use crate::primitive::Rays32;
-use wide::f32x8;
 
 /// `n·x − h` in double-double (exact products, ≈ 2⁻¹⁰⁴-relative sums).
 #[inline]
@@ -312,13 +311,7 @@ impl<const D: usize> HalfSpace<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let (n, h) = (&self.n32, self.h32);
-        super::gaussian::batch(
-            rays,
-            out,
-            |o, d, t0, t1| half_kernel::<f32x8, D>(n, h, o, d, t0, t1),
-            |o, d, t0, t1| half_kernel::<f32, D>(n, h, o, d, t0, t1),
-        )
+        super::ray_batch(&HalfK32(self.n32, self.h32), rays, out)
     }
 }
 
@@ -430,13 +423,27 @@ impl<const D: usize> Slab<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let (n, h) = (&self.n32, self.h32);
-        super::gaussian::batch(
-            rays,
-            out,
-            |o, d, t0, t1| slab_kernel::<f32x8, D>(n, h, o, d, t0, t1),
-            |o, d, t0, t1| slab_kernel::<f32, D>(n, h, o, d, t0, t1),
-        )
+        super::ray_batch(&SlabK32(self.n32, self.h32), rays, out)
+    }
+}
+
+/// The half-space's `f32` segment length as a [`super::RayKernel32`].
+struct HalfK32<const D: usize>([f32; D], f32);
+
+impl<const D: usize> super::RayKernel32<D> for HalfK32<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        half_kernel::<L, D>(&self.0, self.1, o, d, t0, t1)
+    }
+}
+
+/// The slab's `f32` segment length as a [`super::RayKernel32`].
+struct SlabK32<const D: usize>([f32; D], [f32; 2]);
+
+impl<const D: usize> super::RayKernel32<D> for SlabK32<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        slab_kernel::<L, D>(&self.0, self.1, o, d, t0, t1)
     }
 }
 

@@ -58,7 +58,7 @@
 //! ball and ends inside it, at `t1`), `b_e` and `c_e` summed from error-free
 //! products and sums and rounded once ("double-`f64`", with rigorous bounds
 //! `u|b_e| + 128u²M_b` and `u|c_e| + 256u²M_c` for the sizes `M` of the
-//! summands), `Δ = b_e² − a c_e` by one `fma`, and the same cancellation-free
+//! summands), `Δ = b_e² − a c_e` from the exact square, and the same cancellation-free
 //! roots. Every decision (which end is inside, on which side a root lies)
 //! must hold with its error margin, and the length (`s+`, `−u−` or `2√Δ/a`)
 //! is returned only when its run-time relative error bound is at most `7u`
@@ -80,11 +80,10 @@
 
 use super::{check_dim, check_finite, check_range, Ray};
 use crate::error::ParamError;
-use crate::num::lane::{load8, store8, F32Lane, LANES};
+use crate::num::lane::F32Lane;
 use crate::num::{sum_accurate, two_prod, two_sum, Dd};
 use crate::primitive::Rays32;
 use core::f64::consts::PI;
-use wide::f32x8;
 
 /// Unit roundoff `u = 2⁻⁵³`.
 const EPS: f64 = f64::EPSILON / 2.0;
@@ -335,21 +334,14 @@ impl<const D: usize> Sphere<D> {
         rays: &Rays32<'_, D>,
         out: &mut [f32],
     ) -> Result<(), ParamError> {
-        let n = rays.check(out.len())?;
-        let mut i = 0;
-        while i + LANES <= n {
-            let o: [f32x8; D] = core::array::from_fn(|j| load8(rays.origin[j], i));
-            let d: [f32x8; D] = core::array::from_fn(|j| load8(rays.dir[j], i));
-            let v = self.chord_lanes(o, d, load8(rays.t0, i), load8(rays.t1, i));
-            store8(out, i, v);
-            i += LANES;
-        }
-        for i in i..n {
-            let o = core::array::from_fn(|j| rays.origin[j][i]);
-            let d = core::array::from_fn(|j| rays.dir[j][i]);
-            out[i] = self.chord_lanes::<f32>(o, d, rays.t0[i], rays.t1[i]);
-        }
-        Ok(())
+        super::ray_batch(self, rays, out)
+    }
+}
+
+impl<const D: usize> super::RayKernel32<D> for Sphere<D> {
+    #[inline(always)]
+    fn eval<L: F32Lane>(&self, o: [L; D], d: [L; D], t0: L, t1: L) -> L {
+        self.chord_lanes::<L>(o, d, t0, t1)
     }
 }
 
@@ -593,16 +585,21 @@ fn end_quad<const D: usize>(q: &[Dd; D], w: &[f64; D], r2: Dd, e: f64) -> (f64, 
 /// positive with a relative error below `1/16` (near tangency, or a miss,
 /// the exact path decides).
 ///
-/// `Δ = b² − af·c` by one `fma`; `|Δ̂ − Δ| ≤ u|Δ̂| + (2|b| + eb)eb +
-/// 2u|af·c| + af·ec`. Then `√Δ` has relative error `≤ 0.54·EΔ/Δ̂ + u`,
+/// `Δ = b² − af·c` from the exact square `b² = p + e` ([`two_prod`]) as
+/// `(p − fl(af·c)) + e` (no fused operation, so the same bits in every build);
+/// `|Δ̂ − Δ| ≤ u(|Δ̂| + |p − fl(af·c)|) + (2|b| + eb)eb + 2u|af·c| + af·ec`. Then `√Δ` has relative error `≤ 0.54·EΔ/Δ̂ + u`,
 /// `k = −(b + sign(b)√Δ)` (no cancellation) `≤ (eb + rel_sd·√Δ)/|k| + u`, the
 /// root `k/af` `≤ rel_k + 2u` and the root `c/k` `≤ ec/|c| + rel_k + u`
 /// (all times 1.01 for the products of the small factors).
 #[inline(always)]
 fn fast_roots(af: f64, b: f64, eb: f64, c: f64, ec: f64) -> Option<[f64; 6]> {
     let ac = af * c;
-    let df = crate::num::scalar::fma(b, b, -ac);
-    let ed = (EPS * df.abs() + (2.0 * b.abs() + eb) * eb + 2.0 * EPS * ac.abs() + af * ec) * 1.01;
+    let (p, e) = two_prod(b, b);
+    let pc = p - ac;
+    let df = pc + e;
+    let ed =
+        (EPS * (df.abs() + pc.abs()) + (2.0 * b.abs() + eb) * eb + 2.0 * EPS * ac.abs() + af * ec)
+            * 1.01;
     if !(df > 16.0 * ed) || !(df > 1e-250) {
         return None;
     }

@@ -1,0 +1,262 @@
+//! Which instructions the SIMD hot paths run: chosen at compile time, and
+//! with the `std` feature also at run time.
+//!
+//! The batch kernels are written over `wide`'s vector types, and `wide`
+//! selects its instructions with `cfg(target_feature)`, when the crate is
+//! compiled. A renderer that depends on this crate without setting
+//! `target-cpu` builds for baseline `x86_64` (SSE2), so its 8-lane vectors are
+//! two 128-bit halves and its 32-bit integer products are emulated.
+//!
+//! With the `std` feature, on `x86_64`, each hot entry point (pattern fills,
+//! periodogram accumulation, `f32` batch closed forms, and the scene crate's
+//! batches, through [`dispatch`]) is also compiled a second time inside a
+//! function with `#[target_feature(enable = "avx2,fma")]`, and calls that
+//! copy when the CPU has AVX2 and FMA ([`level`]). The code is the same
+//! generic code; in the AVX2 copy LLVM inlines `wide`'s operations and
+//! selects VEX-encoded and 256-bit instructions for them. The kernels use no
+//! fused multiply-add and no operation whose result depends on the
+//! instruction set (IEEE `+ − × ÷ √`, comparisons, integer arithmetic), so
+//! **both copies return the same bits**, which the tests check by running
+//! each kernel at both levels ([`set_level`]).
+//!
+//! Why this and not own AVX2 vector types: `wide` is the crate's one SIMD
+//! layer, and a second set of lane types over `core::arch` would be a second
+//! implementation of every kernel's arithmetic to keep identical; the copy
+//! compiled with the features enabled reaches close to the speed of an
+//! `x86-64-v3` build (the README's table gives the measured ratios). Why not
+//! always: without `std` there is no portable way to ask the CPU (and a
+//! `no_std` renderer usually sets its target features itself), so without
+//! `std`, or on other architectures, only the compile-time choice applies.
+//! A build with `target-cpu=x86-64-v3` (or `native` on such a CPU) needs no
+//! dispatch and compiles only one copy.
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+use core::sync::atomic::{AtomicU8, Ordering};
+
+/// An instruction-set level of the SIMD hot paths.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Level {
+    /// What the crate was compiled for (`cfg(target_feature)`), with no
+    /// run-time selection: SSE2 on a default `x86_64` build.
+    Compiled,
+    /// AVX2 and FMA selected at run time (`x86_64` with `std` only).
+    Avx2Fma,
+}
+
+impl Level {
+    /// The name `LINESAMPLE_SIMD` accepts for this level.
+    #[must_use]
+    pub const fn name(self) -> &'static str {
+        match self {
+            Level::Compiled => "compiled",
+            Level::Avx2Fma => "avx2",
+        }
+    }
+}
+
+impl core::fmt::Display for Level {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Whether the run-time AVX2 copy exists in this build: `std` on `x86_64`,
+/// and the crate not already compiled with AVX2 and FMA (then the one copy
+/// has them).
+pub const RUNTIME_DISPATCH: bool = cfg!(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+));
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+const UNSET: u8 = 0;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+const COMPILED: u8 = 1;
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+const AVX2: u8 = 2;
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+static LEVEL: AtomicU8 = AtomicU8::new(UNSET);
+
+/// Whether this CPU has AVX2 and FMA (always `false` without `std` unless
+/// the build enables both).
+#[must_use]
+pub fn avx2_fma_available() -> bool {
+    #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+    {
+        true
+    }
+    #[cfg(all(
+        not(all(target_feature = "avx2", target_feature = "fma")),
+        feature = "std",
+        target_arch = "x86_64"
+    ))]
+    {
+        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+    }
+    #[cfg(all(
+        not(all(target_feature = "avx2", target_feature = "fma")),
+        not(all(feature = "std", target_arch = "x86_64"))
+    ))]
+    {
+        false
+    }
+}
+
+/// The level the hot paths run at.
+///
+/// Where [`RUNTIME_DISPATCH`] holds, decided on first use: [`Level::Avx2Fma`]
+/// if the CPU has AVX2 and FMA, unless the environment variable
+/// `LINESAMPLE_SIMD` is `compiled` (or `baseline`, `off`, `0`), and
+/// [`Level::Compiled`] otherwise; other values of the variable are ignored.
+/// [`set_level`] overrides it. Elsewhere always [`Level::Compiled`] (which is
+/// then AVX2 + FMA if the build enables them).
+#[must_use]
+#[inline]
+pub fn level() -> Level {
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    {
+        match LEVEL.load(Ordering::Relaxed) {
+            AVX2 => Level::Avx2Fma,
+            COMPILED => Level::Compiled,
+            _ => detect(),
+        }
+    }
+    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    {
+        Level::Compiled
+    }
+}
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+#[cold]
+fn detect() -> Level {
+    let off = std::env::var_os("LINESAMPLE_SIMD").is_some_and(|v| {
+        let v = v.to_string_lossy().to_ascii_lowercase();
+        matches!(v.as_str(), "compiled" | "baseline" | "off" | "0")
+    });
+    let l = if RUNTIME_DISPATCH && !off && avx2_fma_available() {
+        Level::Avx2Fma
+    } else {
+        Level::Compiled
+    };
+    store(l);
+    l
+}
+
+#[cfg(all(feature = "std", target_arch = "x86_64"))]
+fn store(l: Level) {
+    let v = match l {
+        Level::Compiled => COMPILED,
+        Level::Avx2Fma => AVX2,
+    };
+    LEVEL.store(v, Ordering::Relaxed);
+}
+
+/// Forces the level of every later hot-path call, in every thread (for tests
+/// and benchmarks: the results are the same bits at every level, so this
+/// changes only the speed).
+///
+/// # Errors
+/// [`crate::error::ParamError`] naming `level` if `Level::Avx2Fma` is asked
+/// for where it is not available: without [`RUNTIME_DISPATCH`] (no `std`,
+/// not `x86_64`, or a build that already has AVX2 and FMA, where
+/// `Level::Compiled` is that level), or on a CPU without AVX2 and FMA.
+pub fn set_level(level: Level) -> Result<(), crate::error::ParamError> {
+    if level == Level::Avx2Fma && !(RUNTIME_DISPATCH && avx2_fma_available()) {
+        return Err(crate::error::ParamError::Unavailable {
+            name: "level",
+            reason: "the run-time AVX2 + FMA path is not available in this build or on this CPU",
+        });
+    }
+    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    store(level);
+    Ok(())
+}
+
+/// The lane types of one instruction-set level: what a batch kernel written
+/// over [`Lane`](crate::num::lane::Lane) is instantiated with.
+pub trait Isa {
+    /// Eight `f32` lanes.
+    type F32: crate::num::lane::F32Lane;
+    /// Four `f64` lanes.
+    type F64: crate::num::lane::F64Lane;
+}
+
+/// The compiled level: `wide`'s `f32x8` and `f64x4`.
+#[derive(Clone, Copy, Debug)]
+pub struct Wide;
+
+impl Isa for Wide {
+    type F32 = wide::f32x8;
+    type F64 = wide::f64x4;
+}
+
+/// The run-time AVX2 level: [`crate::num::avx2`]'s `F32x8` and `F64x4`.
+#[cfg(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2;
+
+#[cfg(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+impl Isa for Avx2 {
+    type F32 = crate::num::avx2::F32x8;
+    type F64 = crate::num::avx2::F64x4;
+}
+
+/// One hot call, to run at the current [`level`] through [`dispatch`]: a
+/// fill, a batch, an accumulation, with its arguments as fields, and its
+/// body generic over the level's lane types `I`.
+///
+/// Why a trait and not a closure: [`Kernel::run`] is `#[inline(always)]` in
+/// every implementation, which makes LLVM compile its whole body (and what
+/// it inlines) into the AVX2 copy; a closure is a separate function that
+/// LLVM may keep out of line, compiled for the baseline.
+pub trait Kernel {
+    /// The call's result.
+    type Output;
+    /// Makes the call with the lane types `I`. Implementations mark it
+    /// `#[inline(always)]`.
+    fn run<I: Isa>(self) -> Self::Output;
+}
+
+/// Runs `k` at the current [`level`]: `k.run::<Avx2>()` inside a function
+/// compiled with AVX2 and FMA where that level is selected, else
+/// `k.run::<Wide>()` as compiled.
+#[inline(always)]
+pub fn dispatch<K: Kernel>(k: K) -> K::Output {
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if level() == Level::Avx2Fma {
+        // SAFETY: `level()` is `Avx2Fma` only where the CPU has AVX2 and FMA
+        // (`detect`, `set_level`).
+        return unsafe { run_avx2_fma(k) };
+    }
+    k.run::<Wide>()
+}
+
+/// `k.run::<Avx2>()` compiled with AVX2 and FMA enabled.
+///
+/// # Safety
+/// The CPU must have AVX2 and FMA.
+#[cfg(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn run_avx2_fma<K: Kernel>(k: K) -> K::Output {
+    k.run::<Avx2>()
+}
