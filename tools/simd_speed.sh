@@ -32,7 +32,9 @@ echo "== running: default flags, dispatch off (LINESAMPLE_SIMD=compiled)"
 LINESAMPLE_SIMD=compiled RUSTFLAGS="-C target-cpu=x86-64" cargo bench -p linesample \
     "${BENCHES[@]}" --target-dir "$SSE2_DIR" -- "${ARGS[@]}" --save-baseline compiled "$FILTER"
 
-python3 - "target/criterion" "$SSE2_DIR/criterion" <<'EOF'
+# criterion writes every baseline under target/criterion (it does not see
+# --target-dir), each under its own name.
+python3 - "target/criterion" "target/criterion" <<'EOF'
 import json, os, sys
 v3_root, sse_root = sys.argv[1], sys.argv[2]
 def medians(root, baseline):
