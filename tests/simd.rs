@@ -245,7 +245,8 @@ fn avx2_lanes_equal_scalar_lanes() {
     let same32 = |x: f32, y: f32| x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan());
     let (va, vb) = (F32x8::load(&a), F32x8::load(&b));
     let mut r = [0f32; 8];
-    let ops: [(&str, F32x8, fn(f32, f32) -> f32); 11] = [
+    type Op32 = (&'static str, F32x8, fn(f32, f32) -> f32);
+    let ops: [Op32; 11] = [
         ("add", va + vb, |x, y| x + y),
         ("sub", va - vb, |x, y| x - y),
         ("mul", va * vb, |x, y| x * y),
@@ -299,7 +300,8 @@ fn avx2_lanes_equal_scalar_lanes() {
     let same64 = |p: f64, q: f64| p.to_bits() == q.to_bits() || (p.is_nan() && q.is_nan());
     let (vx, vy) = (F64x4::load(&x), F64x4::load(&y));
     let mut s = [0f64; 4];
-    let ops: [(&str, F64x4, fn(f64, f64) -> f64); 11] = [
+    type Op64 = (&'static str, F64x4, fn(f64, f64) -> f64);
+    let ops: [Op64; 11] = [
         ("add", vx + vy, |p, q| p + q),
         ("sub", vx - vy, |p, q| p - q),
         ("mul", vx * vy, |p, q| p * q),
