@@ -349,9 +349,9 @@ impl<const D: usize, G: Generate<D>, S: Sink<D>> crate::simd::Kernel for Fill<'_
     type Output = ();
     #[inline(always)]
     fn run<I: crate::simd::Isa>(self) {
-        // The generators are written over `wide`'s types directly: the AVX2
-        // copy compiles them with VEX encodings and SSE4.1 integer products,
-        // still in 128-bit halves.
+        // The generators are written over `wide`'s types directly, so the
+        // AVX2 copy still computes in 128-bit halves (measured no faster
+        // than the compiled level; README, "Build flags").
         self.gen.gen_simd(self.seed, self.first, self.sink);
     }
 }
