@@ -7,28 +7,31 @@
 //! `target-cpu` builds for baseline `x86_64` (SSE2), so its 8-lane vectors are
 //! two 128-bit halves and its 32-bit integer products are emulated.
 //!
-//! With the `std` feature, on `x86_64`, each hot entry point (pattern fills,
-//! periodogram accumulation, `f32` batch closed forms, and the scene crate's
-//! batches, through [`dispatch`]) is also compiled a second time inside a
-//! function with `#[target_feature(enable = "avx2,fma")]`, and calls that
-//! copy when the CPU has AVX2 and FMA ([`level`]). The code is the same
-//! generic code; in the AVX2 copy LLVM inlines `wide`'s operations and
-//! selects VEX-encoded and 256-bit instructions for them. The kernels use no
-//! fused multiply-add and no operation whose result depends on the
-//! instruction set (IEEE `+ − × ÷ √`, comparisons, integer arithmetic), so
-//! **both copies return the same bits**, which the tests check by running
-//! each kernel at both levels ([`set_level`]).
+//! With the `std` feature, on `x86_64`, the hot entry points are compiled a
+//! second time inside a function with `#[target_feature(enable =
+//! "avx2,fma")]` ([`dispatch`]), which runs when the CPU has AVX2 and FMA
+//! ([`level`]). A [`Kernel`] is generic over an [`Isa`], the level's lane
+//! types: `wide`'s at the compiled level, [`crate::num::avx2`]'s 256-bit
+//! types over `core::arch` in the AVX2 copy. This covers the periodogram
+//! accumulation ([`crate::spectrum::Dft`]) and the `f32` ray batches of
+//! [`crate::world`] and [`crate::integrand::HalfSpace`]. The pattern fills
+//! run their AVX2 copy too, but their generators are written over `wide`'s
+//! types directly, so they still compute in 128-bit halves there (no faster;
+//! the README's "Build flags" table). The scene crate's batches are not
+//! dispatched yet.
 //!
-//! Why this and not own AVX2 vector types: `wide` is the crate's one SIMD
-//! layer, and a second set of lane types over `core::arch` would be a second
-//! implementation of every kernel's arithmetic to keep identical; the copy
-//! compiled with the features enabled reaches close to the speed of an
-//! `x86-64-v3` build (the README's table gives the measured ratios). Why not
-//! always: without `std` there is no portable way to ask the CPU (and a
-//! `no_std` renderer usually sets its target features itself), so without
-//! `std`, or on other architectures, only the compile-time choice applies.
-//! A build with `target-cpu=x86-64-v3` (or `native` on such a CPU) needs no
-//! dispatch and compiles only one copy.
+//! The kernels use no fused multiply-add and no operation whose result
+//! depends on the instruction set (IEEE `+ − × ÷ √`, `floor`, comparisons,
+//! selections), so **both copies return the same bits**; `tests/simd.rs`
+//! runs each dispatched path at both levels ([`set_level`]).
+//!
+//! Why own lane types: `wide` chooses its instructions when it is compiled,
+//! and its baseline types compiled inside an AVX2 function stay 128-bit
+//! (checked in the disassembly). Why not everywhere: without `std` there is
+//! no portable way to ask the CPU, so `no_std` builds, and other
+//! architectures, use the compile-time choice only. A build with
+//! `target-cpu=x86-64-v3` (or `native` on such a CPU) needs no dispatch and
+//! compiles one copy.
 
 #[cfg(all(feature = "std", target_arch = "x86_64"))]
 use core::sync::atomic::{AtomicU8, Ordering};
