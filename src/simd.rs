@@ -33,9 +33,6 @@
 //! `target-cpu=x86-64-v3` (or `native` on such a CPU) needs no dispatch and
 //! compiles one copy.
 
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-use core::sync::atomic::{AtomicU8, Ordering};
-
 /// An instruction-set level of the SIMD hot paths.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Level {
@@ -47,7 +44,8 @@ pub enum Level {
 }
 
 impl Level {
-    /// The name `LINESAMPLE_SIMD` accepts for this level.
+    /// The level's name: `compiled` (also what `LINESAMPLE_SIMD` takes to
+    /// turn the run-time level off) or `avx2`.
     #[must_use]
     pub const fn name(self) -> &'static str {
         match self {
@@ -72,16 +70,6 @@ pub const RUNTIME_DISPATCH: bool = cfg!(all(
     not(all(target_feature = "avx2", target_feature = "fma"))
 ));
 
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-const UNSET: u8 = 0;
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-const COMPILED: u8 = 1;
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-const AVX2: u8 = 2;
-
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-static LEVEL: AtomicU8 = AtomicU8::new(UNSET);
-
 /// Whether this CPU has AVX2 and FMA (always `false` without `std` unless
 /// the build enables both).
 #[must_use]
@@ -90,20 +78,16 @@ pub fn avx2_fma_available() -> bool {
     {
         true
     }
-    #[cfg(all(
-        not(all(target_feature = "avx2", target_feature = "fma")),
-        feature = "std",
-        target_arch = "x86_64"
-    ))]
+    #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
     {
-        std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
-    }
-    #[cfg(all(
-        not(all(target_feature = "avx2", target_feature = "fma")),
-        not(all(feature = "std", target_arch = "x86_64"))
-    ))]
-    {
-        false
+        #[cfg(all(feature = "std", target_arch = "x86_64"))]
+        {
+            std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
+        }
+        #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+        {
+            false
+        }
     }
 }
 
@@ -118,43 +102,22 @@ pub fn avx2_fma_available() -> bool {
 #[must_use]
 #[inline]
 pub fn level() -> Level {
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
     {
-        match LEVEL.load(Ordering::Relaxed) {
-            AVX2 => Level::Avx2Fma,
-            COMPILED => Level::Compiled,
-            _ => detect(),
-        }
+        rt::level()
     }
-    #[cfg(not(all(feature = "std", target_arch = "x86_64")))]
+    #[cfg(not(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    )))]
     {
         Level::Compiled
     }
-}
-
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-#[cold]
-fn detect() -> Level {
-    let off = std::env::var_os("LINESAMPLE_SIMD").is_some_and(|v| {
-        let v = v.to_string_lossy().to_ascii_lowercase();
-        matches!(v.as_str(), "compiled" | "baseline" | "off" | "0")
-    });
-    let l = if RUNTIME_DISPATCH && !off && avx2_fma_available() {
-        Level::Avx2Fma
-    } else {
-        Level::Compiled
-    };
-    store(l);
-    l
-}
-
-#[cfg(all(feature = "std", target_arch = "x86_64"))]
-fn store(l: Level) {
-    let v = match l {
-        Level::Compiled => COMPILED,
-        Level::Avx2Fma => AVX2,
-    };
-    LEVEL.store(v, Ordering::Relaxed);
 }
 
 /// Forces the level of every later hot-path call, in every thread (for tests
@@ -173,8 +136,12 @@ pub fn set_level(level: Level) -> Result<(), crate::error::ParamError> {
             reason: "the run-time AVX2 + FMA path is not available in this build or on this CPU",
         });
     }
-    #[cfg(all(feature = "std", target_arch = "x86_64"))]
-    store(level);
+    #[cfg(all(
+        feature = "std",
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    rt::store(level);
     Ok(())
 }
 
@@ -194,25 +161,6 @@ pub struct Wide;
 impl Isa for Wide {
     type F32 = wide::f32x8;
     type F64 = wide::f64x4;
-}
-
-/// The run-time AVX2 level: [`crate::num::avx2`]'s `F32x8` and `F64x4`.
-#[cfg(all(
-    feature = "std",
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-#[derive(Clone, Copy, Debug)]
-pub struct Avx2;
-
-#[cfg(all(
-    feature = "std",
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-impl Isa for Avx2 {
-    type F32 = crate::num::avx2::F32x8;
-    type F64 = crate::num::avx2::F64x4;
 }
 
 /// One hot call, to run at the current [`level`] through [`dispatch`]: a
@@ -241,25 +189,87 @@ pub fn dispatch<K: Kernel>(k: K) -> K::Output {
         target_arch = "x86_64",
         not(all(target_feature = "avx2", target_feature = "fma"))
     ))]
-    if level() == Level::Avx2Fma {
-        // SAFETY: `level()` is `Avx2Fma` only where the CPU has AVX2 and FMA
-        // (`detect`, `set_level`).
-        return unsafe { run_avx2_fma(k) };
+    if rt::level() == Level::Avx2Fma {
+        // SAFETY: `rt::level()` is `Avx2Fma` only where the CPU has AVX2 and
+        // FMA (`rt::detect`, `set_level`).
+        return unsafe { rt::run_avx2_fma(k) };
     }
     k.run::<Wide>()
 }
 
-/// `k.run::<Avx2>()` compiled with AVX2 and FMA enabled.
-///
-/// # Safety
-/// The CPU must have AVX2 and FMA.
 #[cfg(all(
     feature = "std",
     target_arch = "x86_64",
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn run_avx2_fma<K: Kernel>(k: K) -> K::Output {
-    k.run::<Avx2>()
+pub use rt::Avx2;
+
+/// Everything that exists only where [`RUNTIME_DISPATCH`] holds: the cached
+/// level, its detection, the AVX2 lane types' [`Isa`] and the AVX2 copy.
+#[cfg(all(
+    feature = "std",
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+mod rt {
+    use super::{avx2_fma_available, Isa, Kernel, Level};
+    use core::sync::atomic::{AtomicU8, Ordering};
+
+    const UNSET: u8 = 0;
+    const COMPILED: u8 = 1;
+    const AVX2: u8 = 2;
+
+    /// The level, [`UNSET`] until first use.
+    static LEVEL: AtomicU8 = AtomicU8::new(UNSET);
+
+    #[inline]
+    pub(super) fn level() -> Level {
+        match LEVEL.load(Ordering::Relaxed) {
+            AVX2 => Level::Avx2Fma,
+            COMPILED => Level::Compiled,
+            _ => detect(),
+        }
+    }
+
+    #[cold]
+    fn detect() -> Level {
+        let off = std::env::var_os("LINESAMPLE_SIMD").is_some_and(|v| {
+            let v = v.to_string_lossy().to_ascii_lowercase();
+            matches!(v.as_str(), "compiled" | "baseline" | "off" | "0")
+        });
+        let l = if !off && avx2_fma_available() {
+            Level::Avx2Fma
+        } else {
+            Level::Compiled
+        };
+        store(l);
+        l
+    }
+
+    pub(super) fn store(l: Level) {
+        let v = match l {
+            Level::Compiled => COMPILED,
+            Level::Avx2Fma => AVX2,
+        };
+        LEVEL.store(v, Ordering::Relaxed);
+    }
+
+    /// The run-time AVX2 level: [`crate::num::avx2`]'s `F32x8` and `F64x4`.
+    #[derive(Clone, Copy, Debug)]
+    pub struct Avx2;
+
+    impl Isa for Avx2 {
+        type F32 = crate::num::avx2::F32x8;
+        type F64 = crate::num::avx2::F64x4;
+    }
+
+    /// `k.run::<Avx2>()` compiled with AVX2 and FMA enabled.
+    ///
+    /// # Safety
+    /// The CPU must have AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    #[inline]
+    pub(super) unsafe fn run_avx2_fma<K: Kernel>(k: K) -> K::Output {
+        k.run::<Avx2>()
+    }
 }

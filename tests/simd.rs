@@ -54,30 +54,19 @@ fn outputs() -> Vec<u64> {
             bits.extend([a.re.to_bits(), a.im.to_bits()]);
         }
     }
-    let g1 = Grid::<1>::new(200).unwrap();
-    let mut d1 = Dft::new_vec(g1);
-    d1.add_points(
-        &p1,
-        &mut vec![0.0; 37 * Dft::<1, Vec<f64>>::points_scratch_per_sample(g1)],
-    )
-    .unwrap();
-    amps(&d1, &mut bits);
+    /// The amplitudes of `pts` on the grid of half-width `k`, fed in chunks
+    /// of `chunk` points (not a multiple of the lane width).
+    fn point_amps<const D: usize>(pts: &[[f32; D]], k: usize, chunk: usize, bits: &mut Vec<u64>) {
+        let g = Grid::<D>::new(k).unwrap();
+        let mut d = Dft::new_vec(g);
+        let per = Dft::<D, Vec<f64>>::points_scratch_per_sample(g);
+        d.add_points(pts, &mut vec![0.0; chunk * per]).unwrap();
+        amps(&d, bits);
+    }
+    point_amps(&p1, 200, 37, &mut bits);
+    point_amps(&p2, 21, 64, &mut bits);
+    point_amps(&p3, 5, 50, &mut bits);
     let g2 = Grid::<2>::new(21).unwrap();
-    let mut d2 = Dft::new_vec(g2);
-    d2.add_points(
-        &p2,
-        &mut vec![0.0; 64 * Dft::<2, Vec<f64>>::points_scratch_per_sample(g2)],
-    )
-    .unwrap();
-    amps(&d2, &mut bits);
-    let g3 = Grid::<3>::new(5).unwrap();
-    let mut d3 = Dft::new_vec(g3);
-    d3.add_points(
-        &p3,
-        &mut vec![0.0; 50 * Dft::<3, Vec<f64>>::points_scratch_per_sample(g3)],
-    )
-    .unwrap();
-    amps(&d3, &mut bits);
     let segs: Vec<Segment<2>> = p2
         .iter()
         .enumerate()

@@ -54,24 +54,9 @@ pub fn two_sum(a: f64, b: f64) -> (f64, f64) {
 #[must_use]
 pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     let p = a * b;
-    #[cfg(any(
-        all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "fma"
-        ),
-        all(target_arch = "aarch64", target_feature = "neon")
-    ))]
-    {
+    if crate::num::scalar::HARDWARE_FMA {
         (p, crate::num::scalar::fma(a, b, -p))
-    }
-    #[cfg(not(any(
-        all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "fma"
-        ),
-        all(target_arch = "aarch64", target_feature = "neon")
-    )))]
-    {
+    } else {
         (p, dekker_err(a, b, p))
     }
 }

@@ -26,31 +26,28 @@
 /// `2⁵²`: every `f64` of at least this magnitude is an integer.
 const TWO_52: f64 = 4_503_599_627_370_496.0;
 
+/// Whether [`fma`] is the hardware instruction in this build (x86 with FMA
+/// enabled at compile time, aarch64); otherwise it is `libm`'s software
+/// routine, and `num::two_prod` uses Dekker's product instead.
+pub const HARDWARE_FMA: bool = cfg!(any(
+    all(
+        any(target_arch = "x86", target_arch = "x86_64"),
+        target_feature = "fma"
+    ),
+    all(target_arch = "aarch64", target_feature = "neon")
+));
+
 /// `a·b + c` with one rounding (IEEE 754 fused multiply-add).
 #[inline(always)]
 #[must_use]
 pub fn fma(a: f64, b: f64, c: f64) -> f64 {
-    #[cfg(any(
-        all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "fma"
-        ),
-        all(target_arch = "aarch64", target_feature = "neon")
-    ))]
-    {
+    if HARDWARE_FMA {
+        // One `vfmadd`/`fmla` (`wide` fuses where the target has FMA).
         use wide::f64x2;
         f64x2::splat(a)
             .mul_add(f64x2::splat(b), f64x2::splat(c))
             .to_array()[0]
-    }
-    #[cfg(not(any(
-        all(
-            any(target_arch = "x86", target_arch = "x86_64"),
-            target_feature = "fma"
-        ),
-        all(target_arch = "aarch64", target_feature = "neon")
-    )))]
-    {
+    } else {
         libm::fma(a, b, c)
     }
 }
