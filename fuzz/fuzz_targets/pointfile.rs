@@ -1,6 +1,10 @@
 //! Fuzzes the lab's point-file parser `linesample_lab::pointfile::parse_points`
 //! on arbitrary text and on generated files.
 //!
+//! The parser's source file is compiled into this target directly (it needs
+//! only `std` and the kernel), so the fuzz build does not compile the lab and
+//! its plotting, CLI and image dependencies (most of that build's time).
+//!
 //! Checks:
 //! * never a panic; a parsed file has `1 ≤ D ≤ 3`, a whole number of points, every
 //!   coordinate finite and in `[0, 1)`, and as many points as data lines (minus a
@@ -20,7 +24,11 @@
 
 use arbitrary::Arbitrary;
 use libfuzzer_sys::fuzz_target;
-use linesample_lab::pointfile::{parse_points, PointFileError};
+#[path = "../../lab/src/pointfile.rs"]
+#[allow(dead_code)]
+mod pointfile;
+
+use pointfile::{parse_points, PointFileError};
 
 #[derive(Arbitrary, Debug)]
 struct Generated {
