@@ -17,6 +17,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use linesample::pattern::{
     CorrelatedMultiJittered, Halton, Jittered, MultiJittered, NRooks, Pattern, Random, Sobol,
 };
+use linesample::sequence::Sequence;
 use linesample::Seed;
 use rand_core::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro128Plus;
@@ -134,6 +135,104 @@ fn group<const D: usize>(c: &mut Criterion, samplers: fn(usize) -> Samplers<D>) 
     }
 }
 
+/// Random access to several dimensions of one sample, as a path tracer asks
+/// for them: 4096 sample indices, 8 coordinates each (dimensions `dim0 …
+/// dim0 + 7`), throughput in coordinates. `sobol_burley::sample_4d` (its
+/// dimension sets are groups of four) is the peer, in the same run.
+fn random_access(c: &mut Criterion) {
+    const INDICES: u32 = 4096;
+    let mut g = c.benchmark_group("random_access");
+    g.throughput(Throughput::Elements(u64::from(INDICES) * 8));
+    let mut out = vec![[0.0f32; 8]; INDICES as usize];
+    let seq = Sobol::<2>::new(64).unwrap();
+    for dim0 in [0u32, 1000] {
+        g.bench_function(BenchmarkId::new("baseline/sobol_burley_4d", dim0), |b| {
+            b.iter(|| {
+                let s = black_box(7u32);
+                for (i, p) in out.iter_mut().enumerate() {
+                    let lo = sobol_burley::sample_4d(i as u32, dim0 / 4, s);
+                    let hi = sobol_burley::sample_4d(i as u32, dim0 / 4 + 1, s);
+                    *p = core::array::from_fn(|d| if d < 4 { lo[d] } else { hi[d - 4] });
+                }
+                black_box(&mut out);
+            })
+        });
+        g.bench_function(BenchmarkId::new("sobol/sample", dim0), |b| {
+            b.iter(|| {
+                let s = black_box(Seed::new(7));
+                for (i, p) in out.iter_mut().enumerate() {
+                    *p = core::array::from_fn(|d| Sobol::sample(i as u32, dim0 + d as u32, s));
+                }
+                black_box(&mut out);
+            })
+        });
+        g.bench_function(BenchmarkId::new("sobol/sample_4d", dim0), |b| {
+            b.iter(|| {
+                let s = black_box(Seed::new(7));
+                for (i, p) in out.iter_mut().enumerate() {
+                    let lo = Sobol::sample_4d(i as u32, dim0, s);
+                    let hi = Sobol::sample_4d(i as u32, dim0 + 4, s);
+                    *p = core::array::from_fn(|d| if d < 4 { lo[d] } else { hi[d - 4] });
+                }
+                black_box(&mut out);
+            })
+        });
+        g.bench_function(BenchmarkId::new("sobol/sample_8d", dim0), |b| {
+            b.iter(|| {
+                let s = black_box(Seed::new(7));
+                for (i, p) in out.iter_mut().enumerate() {
+                    *p = Sobol::sample_8d(i as u32, dim0, s);
+                }
+                black_box(&mut out);
+            })
+        });
+        // A new seed for every call (a renderer that visits pixels in
+        // random order): the key derivations cannot be hoisted out of the
+        // loop, for the peer or for us.
+        g.bench_function(
+            BenchmarkId::new("baseline/sobol_burley_4d_seed_per_call", dim0),
+            |b| {
+                b.iter(|| {
+                    let s0 = black_box(7u32);
+                    for (i, p) in out.iter_mut().enumerate() {
+                        let s = s0 ^ (i as u32).wrapping_mul(0x9E37_79B9);
+                        let lo = sobol_burley::sample_4d(i as u32, dim0 / 4, s);
+                        let hi = sobol_burley::sample_4d(i as u32, dim0 / 4 + 1, s);
+                        *p = core::array::from_fn(|d| if d < 4 { lo[d] } else { hi[d - 4] });
+                    }
+                    black_box(&mut out);
+                })
+            },
+        );
+        g.bench_function(
+            BenchmarkId::new("sobol/sample_8d_seed_per_call", dim0),
+            |b| {
+                b.iter(|| {
+                    let s0 = black_box(7u64);
+                    for (i, p) in out.iter_mut().enumerate() {
+                        let s = Seed(s0 ^ (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15));
+                        *p = Sobol::sample_8d(i as u32, dim0, s);
+                    }
+                    black_box(&mut out);
+                })
+            },
+        );
+        // The checked trait method through a trait object, as a renderer
+        // that picks its sequence at run time calls it.
+        let dynamic: &dyn Sequence<2> = &seq;
+        g.bench_function(BenchmarkId::new("sequence_dyn/sample_8d", dim0), |b| {
+            b.iter(|| {
+                let s = black_box(Seed::new(7));
+                for (i, p) in out.iter_mut().enumerate() {
+                    *p = dynamic.sample_8d(i as u64, dim0, s).unwrap();
+                }
+                black_box(&mut out);
+            })
+        });
+    }
+    g.finish();
+}
+
 fn patterns_2d(c: &mut Criterion) {
     group::<2>(c, samplers2);
 }
@@ -148,6 +247,6 @@ criterion_group! {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_millis(1200))
         .sample_size(20);
-    targets = patterns_2d, patterns_3d
+    targets = patterns_2d, patterns_3d, random_access
 }
 criterion_main!(benches);

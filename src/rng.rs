@@ -487,14 +487,15 @@ impl Seed {
     #[inline]
     #[must_use]
     pub const fn stream(self, purpose: u64) -> u64 {
-        mix64(
-            self.0
-                ^ mix64(
-                    purpose
-                        .wrapping_mul(GOLDEN_64)
-                        .wrapping_add(0x632B_E59B_D9B4_E019),
-                ),
-        )
+        self.stream_premixed(purpose_mix(purpose))
+    }
+
+    /// [`Seed::stream`] from its purpose's half, `purpose_mix(purpose)`,
+    /// computed beforehand: callers that derive many keys of fixed purposes
+    /// (the Sobol' value scrambles) keep a table of them.
+    #[inline(always)]
+    pub(crate) const fn stream_premixed(self, premixed: u64) -> u64 {
+        mix64(self.0 ^ premixed)
     }
 
     /// The seed of one item named by a path of purposes, e.g. `(effect,
@@ -545,15 +546,31 @@ impl Seed {
 /// `⌊2⁶⁴/φ⌋`, the Weyl increment.
 pub(crate) const GOLDEN_64: u64 = 0x9E37_79B9_7F4A_7C15;
 
+/// The half of [`Seed::stream`] that depends only on the purpose:
+/// `mix64(purpose·φ₆₄ + 0x632BE59BD9B4E019)`.
+#[inline(always)]
+pub(crate) const fn purpose_mix(purpose: u64) -> u64 {
+    mix64(
+        purpose
+            .wrapping_mul(GOLDEN_64)
+            .wrapping_add(0x632B_E59B_D9B4_E019),
+    )
+}
+
+/// The first multiplier of [`mix64`].
+pub(crate) const MIX64_C1: u64 = 0xFF51_AFD7_ED55_8CCD;
+/// The second multiplier of [`mix64`].
+pub(crate) const MIX64_C2: u64 = 0xC4CE_B9FE_1A85_EC53;
+
 /// 64-bit finaliser (MurmurHash3 `fmix64`, Appleby 2011): a bijection on `u64`
 /// with full avalanche.
 #[inline]
 #[must_use]
 pub const fn mix64(mut x: u64) -> u64 {
     x ^= x >> 33;
-    x = x.wrapping_mul(0xFF51_AFD7_ED55_8CCD);
+    x = x.wrapping_mul(MIX64_C1);
     x ^= x >> 33;
-    x = x.wrapping_mul(0xC4CE_B9FE_1A85_EC53);
+    x = x.wrapping_mul(MIX64_C2);
     x ^= x >> 33;
     x
 }

@@ -175,6 +175,63 @@ pub trait Sequence<const D: usize> {
             .copied()
             .ok_or(PatternError::Dimension { dim, max: D as u32 })
     }
+
+    /// Coordinates `dim … dim + 3` of point `index` at once:
+    /// `[sample(index, dim + l, seed)?; l = 0..4]`, bit for bit. [`Sobol`]
+    /// computes the four in SIMD lanes ([`Sobol::sample_4d`]: one index
+    /// scramble, one vector load per pair of index bits); the default calls
+    /// [`Sequence::sample`] four times.
+    ///
+    /// # Errors
+    /// As [`Sequence::sample`] for the first coordinate that has one: a bad
+    /// `index` first, then [`PatternError::Dimension`] naming the first
+    /// dimension `≥ self.dimensions()`.
+    fn sample_4d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 4], PatternError> {
+        lanes_by_sample(self, index, dim, seed)
+    }
+
+    /// Coordinates `dim … dim + 7` of point `index` at once:
+    /// [`Sequence::sample_4d`] with eight lanes ([`Sobol::sample_8d`] for
+    /// [`Sobol`]).
+    ///
+    /// # Errors
+    /// As [`Sequence::sample_4d`].
+    fn sample_8d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 8], PatternError> {
+        lanes_by_sample(self, index, dim, seed)
+    }
+}
+
+/// `[seq.sample(index, dim + l, seed)?; l = 0..L]`, the first error returned
+/// (the default batch).
+#[inline]
+fn lanes_by_sample<const D: usize, const L: usize, S: Sequence<D> + ?Sized>(
+    seq: &S,
+    index: u64,
+    dim: u32,
+    seed: Seed,
+) -> Result<[f32; L], PatternError> {
+    let mut out = [0.0f32; L];
+    for (l, o) in out.iter_mut().enumerate() {
+        let d = dim.checked_add(l as u32).ok_or(PatternError::Dimension {
+            dim: u32::MAX,
+            max: seq.dimensions(),
+        })?;
+        *o = seq.sample(index, d, seed)?;
+    }
+    Ok(out)
+}
+
+/// `Ok` iff dimensions `dim … dim + lanes − 1` all exist (`< max`); else the
+/// error naming the first that does not.
+#[inline]
+fn check_dims(dim: u32, lanes: u32, max: u32) -> Result<(), PatternError> {
+    match dim.checked_add(lanes - 1) {
+        Some(last) if last < max => Ok(()),
+        _ => Err(PatternError::Dimension {
+            dim: dim.max(max),
+            max,
+        }),
+    }
 }
 
 impl<const D: usize, S: Sequence<D> + ?Sized> Sequence<D> for &S {
@@ -189,6 +246,12 @@ impl<const D: usize, S: Sequence<D> + ?Sized> Sequence<D> for &S {
     }
     fn sample(&self, index: u64, dim: u32, seed: Seed) -> Result<f32, PatternError> {
         (**self).sample(index, dim, seed)
+    }
+    fn sample_4d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 4], PatternError> {
+        (**self).sample_4d(index, dim, seed)
+    }
+    fn sample_8d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 8], PatternError> {
+        (**self).sample_8d(index, dim, seed)
     }
 }
 
@@ -283,7 +346,7 @@ const FULL: u64 = 1 << 32;
 /// `Sequence<D>` for the low-discrepancy sequences, with `sample` from their
 /// inherent 1024-dimensional random access.
 macro_rules! full_sequence {
-    ($($ty:ident, $dims:expr;)*) => {$(
+    ($($ty:ident, $dims:expr $(, batch: $b4:ident, $b8:ident)?;)*) => {$(
         impl<const D: usize> Sequence<D> for $ty<D> {
             fn count(&self) -> u64 {
                 FULL
@@ -300,12 +363,24 @@ macro_rules! full_sequence {
                 // index < 2³² and dim < 1024 were checked: no truncation, no panic.
                 Ok($ty::<1>::sample(index as u32, dim, seed))
             }
+            $(
+            fn sample_4d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 4], PatternError> {
+                check_index(index, FULL)?;
+                check_dims(dim, 4, $dims)?;
+                Ok($ty::<1>::$b4(index as u32, dim, seed))
+            }
+            fn sample_8d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 8], PatternError> {
+                check_index(index, FULL)?;
+                check_dims(dim, 8, $dims)?;
+                Ok($ty::<1>::$b8(index as u32, dim, seed))
+            }
+            )?
         }
     )*};
 }
 
 full_sequence! {
-    Sobol, SOBOL_DIMENSIONS;
+    Sobol, SOBOL_DIMENSIONS, batch: sample_4d, sample_8d;
     Halton, HALTON_DIMENSIONS;
 }
 
@@ -334,6 +409,21 @@ impl<const D: usize, P: Sequence<D>> Sequence<D> for Shifted<P> {
         let x = self.inner().sample(index, dim, seed)?;
         Ok(to_unit_f32(f64::from(x) + shift_component(seed, dim)))
     }
+    fn sample_4d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 4], PatternError> {
+        let x = self.inner().sample_4d(index, dim, seed)?;
+        Ok(shift_lanes(x, dim, seed))
+    }
+    fn sample_8d(&self, index: u64, dim: u32, seed: Seed) -> Result<[f32; 8], PatternError> {
+        let x = self.inner().sample_8d(index, dim, seed)?;
+        Ok(shift_lanes(x, dim, seed))
+    }
+}
+
+/// Lane `l` of `x` shifted as dimension `dim + l` (the inner batch succeeded,
+/// so `dim + l` does not overflow).
+#[inline]
+fn shift_lanes<const L: usize>(x: [f32; L], dim: u32, seed: Seed) -> [f32; L] {
+    core::array::from_fn(|l| to_unit_f32(f64::from(x[l]) + shift_component(seed, dim + l as u32)))
 }
 
 /// Seed purpose of [`pixel_seed`].

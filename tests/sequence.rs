@@ -466,3 +466,115 @@ fn the_decorrelation_check_detects_shared_seeds() {
     let (r, se, _) = clustered_pearson(&neighbour_pairs(&same, (1, 0), 1, in_stratum));
     assert!(r > 0.999 && r > 20.0 * se, "r = {r}, SE = {se}");
 }
+
+/// `sample_4d`/`sample_8d` equal `L` calls of `sample`, bit for bit, through
+/// the trait and (for Sobol') the inherent SIMD functions, at every alignment
+/// of `dim` and up to the last dimensions.
+fn check_batches<const D: usize, S: Sequence<D> + ?Sized>(seq: &S, indices: &[u64], what: &str) {
+    let top = seq.dimensions();
+    let mut dims: Vec<u32> = (0..top.min(19)).collect();
+    dims.extend([
+        top.saturating_sub(9),
+        top.saturating_sub(8),
+        top.saturating_sub(4),
+    ]);
+    for seed in SEEDS {
+        for &i in indices {
+            for &d in &dims {
+                let one = |l: u32| seq.sample(i, d + l, seed).map(f32::to_bits);
+                let want4: Result<Vec<u32>, _> = (0..4).map(one).collect();
+                let got4 = seq
+                    .sample_4d(i, d, seed)
+                    .map(|v| v.map(f32::to_bits).to_vec());
+                assert_eq!(got4, want4, "{what}: sample_4d index {i} dim {d}");
+                let want8: Result<Vec<u32>, _> = (0..8).map(one).collect();
+                let got8 = seq
+                    .sample_8d(i, d, seed)
+                    .map(|v| v.map(f32::to_bits).to_vec());
+                assert_eq!(got8, want8, "{what}: sample_8d index {i} dim {d}");
+            }
+        }
+    }
+}
+
+#[test]
+fn batch_random_access_equals_single_samples() {
+    let mut idx: Vec<u64> = vec![0, 1, 2, 7, 8, 255, 0xDEAD_BEEF, u32::MAX as u64];
+    let mut x = 0x1234_5678u32;
+    for _ in 0..24 {
+        x = x.wrapping_mul(0x9E37_79B9).wrapping_add(0x7F4A_7C15);
+        idx.push(u64::from(x));
+    }
+    check_batches(&Sobol::<2>::new(64).unwrap(), &idx, "sobol");
+    check_batches(&Halton::<2>::new(64).unwrap(), &idx, "halton");
+    check_batches(
+        &Sobol::<2>::new(64).unwrap().shifted(),
+        &idx,
+        "shifted sobol",
+    );
+    let small: Vec<u64> = vec![0, 1, 17, 63];
+    check_batches(&Jittered::new([8, 8]).unwrap(), &small, "jittered");
+    check_batches(&Random::<3>::new(64).unwrap(), &small, "random");
+    let dynamic: &dyn Sequence<2> = &Sobol::<2>::new(8).unwrap();
+    check_batches(dynamic, &idx[..4], "dyn sobol");
+    // The inherent functions are the SIMD lanes the trait returns.
+    for seed in SEEDS {
+        for &i in &idx {
+            for d in (0..=SOBOL_DIMENSIONS - 8).step_by(37).chain([1015, 1016]) {
+                let want: [u32; 8] =
+                    core::array::from_fn(|l| Sobol::sample(i as u32, d + l as u32, seed).to_bits());
+                assert_eq!(Sobol::sample_8d(i as u32, d, seed).map(f32::to_bits), want);
+                assert_eq!(
+                    Sobol::sample_4d(i as u32, d + 4, seed).map(f32::to_bits),
+                    want[4..]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn batch_random_access_errors_name_the_first_missing_dimension() {
+    let sobol = Sobol::<2>::new(64).unwrap();
+    let top = SOBOL_DIMENSIONS;
+    assert!(sobol.sample_8d(5, top - 8, SEEDS[0]).is_ok());
+    for (dim, first) in [(top - 7, top), (top, top), (u32::MAX - 3, u32::MAX - 3)] {
+        let e = Err(PatternError::Dimension {
+            dim: first,
+            max: top,
+        });
+        assert_eq!(sobol.sample_8d(5, dim, SEEDS[0]), e, "dim {dim}");
+    }
+    assert_eq!(
+        sobol.sample_4d(5, top - 3, SEEDS[0]),
+        Err(PatternError::Dimension { dim: top, max: top })
+    );
+    assert_eq!(
+        sobol.sample_4d(1 << 32, 0, SEEDS[0]),
+        Err(PatternError::Range {
+            first: 1 << 32,
+            len: 1,
+            n: 1 << 32
+        })
+    );
+    let jit = Jittered::new([8, 8]).unwrap();
+    assert_eq!(
+        jit.sample_4d(3, 0, SEEDS[0]),
+        Err(PatternError::Dimension { dim: 2, max: 2 })
+    );
+    assert_eq!(
+        Halton::<2>::new(4)
+            .unwrap()
+            .sample_8d(0, HALTON_DIMENSIONS - 2, SEEDS[0]),
+        Err(PatternError::Dimension {
+            dim: HALTON_DIMENSIONS,
+            max: HALTON_DIMENSIONS
+        })
+    );
+}
+
+#[test]
+#[should_panic(expected = "must be below 1024")]
+fn sobol_sample_8d_past_the_last_dimension_panics() {
+    let _ = Sobol::sample_8d(0, SOBOL_DIMENSIONS - 7, SEEDS[0]);
+}

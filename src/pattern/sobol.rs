@@ -4,8 +4,8 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
-use crate::rng::Seed;
-use wide::{f32x8, u32x8};
+use crate::rng::{purpose_mix, Seed};
+use wide::{f32x8, u32x4, u32x8};
 
 /// Number of Sobol' dimensions available to [`Sobol::sample`]: the van der Corput
 /// sequence plus Joe & Kuo (2008) dimensions 2 to 1024.
@@ -140,6 +140,73 @@ const fn nibble_tables() -> [[[u32; 16]; 8]; NIBBLE_DIMS] {
 
 static NIBBLES: [[[u32; 16]; 8]; NIBBLE_DIMS] = nibble_tables();
 
+/// Row length of [`PAIRS`]: the 1024 dimensions plus 16 unused words. Rows
+/// 4 KiB apart would map the loads of one batch to one L1 cache set (8
+/// ways): measured, that made a batch slower than a single-coordinate
+/// `sample` per lane. The padding spreads them over distinct sets.
+const ROW: usize = NDIM + 16;
+
+/// The bit-reversed direction numbers by pairs of index bits, transposed for
+/// the batch random access: `PAIRS[c][v][d] = ⊕_{b ∈ {0,1}: v_b = 1}
+/// reverse(V[d][31 − 2c − b])`, so that for a reversed index `t`
+/// (bit reversal commutes with XOR)
+///
+/// `reverse(x_d(reverse(t))) = ⊕_{c=0}^{15} PAIRS[c][(t ≫ 2c) & 3][d]`,
+///
+/// 16 lookups instead of 32 masked ones, and the numbers of consecutive
+/// dimensions for one lookup are one vector load (260 KiB).
+const fn direction_pairs() -> [[[u32; ROW]; 4]; 16] {
+    let dirs = direction_numbers();
+    let mut t = [[[0u32; ROW]; 4]; 16];
+    let mut c = 0;
+    while c < 16 {
+        let mut d = 0;
+        while d < NDIM {
+            let lo = dirs[d][31 - 2 * c].reverse_bits();
+            let hi = dirs[d][30 - 2 * c].reverse_bits();
+            t[c][1][d] = lo;
+            t[c][2][d] = hi;
+            t[c][3][d] = lo ^ hi;
+            d += 1;
+        }
+        c += 1;
+    }
+    t
+}
+
+static PAIRS: [[[u32; ROW]; 4]; 16] = direction_pairs();
+
+/// `VALUE_MIX[d] = purpose_mix(VALUE_PURPOSE + d)`: the seed-free half of
+/// every value key, so that `value_key(σ, d)` is one `mix64` of
+/// `σ ⊕ VALUE_MIX[d]` (8 KiB).
+const fn value_mix() -> [u64; NDIM] {
+    let mut m = [0u64; NDIM];
+    let mut d = 0;
+    while d < NDIM {
+        m[d] = purpose_mix(VALUE_PURPOSE + d as u64);
+        d += 1;
+    }
+    m
+}
+
+static VALUE_MIX: [u64; NDIM] = value_mix();
+
+/// [`VALUE_MIX`] split into its low and high 32-bit halves (8 lanes of
+/// padding), for [`mix64`](crate::rng::mix64) in `u32` lanes.
+const fn value_mix_halves() -> [[u32; NDIM + 8]; 2] {
+    let m = value_mix();
+    let mut h = [[0u32; NDIM + 8]; 2];
+    let mut d = 0;
+    while d < NDIM {
+        h[0][d] = m[d] as u32;
+        h[1][d] = (m[d] >> 32) as u32;
+        d += 1;
+    }
+    h
+}
+
+static VALUE_MIX_HALVES: [[u32; NDIM + 8]; 2] = value_mix_halves();
+
 /// Unscrambled value `x_d(i)` as a 32-bit binary fraction (see
 /// [`Sobol::sobol_u32`]); `dim < SOBOL_DIMENSIONS` (checked by the callers).
 #[inline(always)]
@@ -208,32 +275,41 @@ const fn owen_rev(mut r: u32, k: OwenKey) -> u32 {
     r
 }
 
-/// Lane-wise [`owen_rev`].
-#[inline(always)]
-fn owen_rev_x8(mut r: u32x8, add: u32x8, mul: u32x8) -> u32x8 {
-    r += add;
-    r ^= r * u32x8::splat(LK1);
-    r ^= r * u32x8::splat(LK2);
-    r *= mul;
-    r ^= r * u32x8::splat(LK3);
-    r ^= r * u32x8::splat(LK4);
-    r
+/// Lane-wise [`owen_rev`] and lane-wise `u32::reverse_bits` (five swap steps)
+/// for one `wide` vector type.
+macro_rules! lane_ops {
+    ($v:ty, $owen:ident, $reverse:ident) => {
+        /// Lane-wise [`owen_rev`].
+        #[inline(always)]
+        fn $owen(mut r: $v, add: $v, mul: $v) -> $v {
+            r += add;
+            r ^= r * <$v>::splat(LK1);
+            r ^= r * <$v>::splat(LK2);
+            r *= mul;
+            r ^= r * <$v>::splat(LK3);
+            r ^= r * <$v>::splat(LK4);
+            r
+        }
+
+        /// Lane-wise `u32::reverse_bits` (five swap steps).
+        #[inline(always)]
+        fn $reverse(mut x: $v) -> $v {
+            x = (x >> 16) | (x << 16);
+            let m = <$v>::splat(0x00FF_00FF);
+            x = ((x >> 8) & m) | ((x & m) << 8);
+            let m = <$v>::splat(0x0F0F_0F0F);
+            x = ((x >> 4) & m) | ((x & m) << 4);
+            let m = <$v>::splat(0x3333_3333);
+            x = ((x >> 2) & m) | ((x & m) << 2);
+            let m = <$v>::splat(0x5555_5555);
+            x = ((x >> 1) & m) | ((x & m) << 1);
+            x
+        }
+    };
 }
 
-/// Lane-wise `u32::reverse_bits` (five swap steps).
-#[inline(always)]
-fn reverse_x8(mut x: u32x8) -> u32x8 {
-    x = (x >> 16) | (x << 16);
-    let m = u32x8::splat(0x00FF_00FF);
-    x = ((x >> 8) & m) | ((x & m) << 8);
-    let m = u32x8::splat(0x0F0F_0F0F);
-    x = ((x >> 4) & m) | ((x & m) << 4);
-    let m = u32x8::splat(0x3333_3333);
-    x = ((x >> 2) & m) | ((x & m) << 2);
-    let m = u32x8::splat(0x5555_5555);
-    x = ((x >> 1) & m) | ((x & m) << 1);
-    x
-}
+lane_ops!(u32x8, owen_rev_x8, reverse_x8);
+lane_ops!(u32x4, owen_rev_x4, reverse_x4);
 
 /// Seed purpose of the index scramble.
 const INDEX_PURPOSE: u64 = 0x534F_424C_0000_0000;
@@ -245,10 +321,81 @@ const fn index_key(seed: Seed) -> OwenKey {
     OwenKey::from_stream(seed.stream(INDEX_PURPOSE))
 }
 
+/// `OwenKey::from_stream(seed.stream(VALUE_PURPOSE + dim))`, from the table of
+/// the purposes' halves; `dim < SOBOL_DIMENSIONS`.
 #[inline(always)]
-const fn value_key(seed: Seed, dim: u32) -> OwenKey {
-    OwenKey::from_stream(seed.stream(VALUE_PURPOSE + dim as u64))
+fn value_key(seed: Seed, dim: u32) -> OwenKey {
+    OwenKey::from_stream(seed.stream_premixed(VALUE_MIX[dim as usize]))
 }
+
+/// Dimensions `dim … dim + L − 1` of one sample in lanes (`L` = 4 or 8,
+/// `dim + L ≤ SOBOL_DIMENSIONS`): the index scramble once, then per
+/// pair of index bits one vector load from [`PAIRS`], the value scrambles in
+/// lanes. Lane `l` equals `sample_keyed(index, dim + l, …)` bit for
+/// bit: the same XOR of the same direction numbers (in another order, which
+/// XOR does not see), the same scramble and conversion.
+macro_rules! sample_lanes {
+    ($name:ident, $v:ty, $l:expr, $owen:ident, $reverse:ident) => {
+        #[inline(always)]
+        fn $name(index: u32, dim: usize, seed: Seed) -> [f32; $l] {
+            let t = shuffled_rev(index, index_key(seed));
+            let mut x = <$v>::splat(0);
+            for (c, rows) in PAIRS.iter().enumerate() {
+                let row = &rows[((t >> (2 * c)) & 3) as usize];
+                let v: [u32; $l] = core::array::from_fn(|l| row[dim + l]);
+                x ^= <$v>::new(v);
+            }
+            // value_key(σ, dim + l) = mix64(σ ⊕ VALUE_MIX[dim + l]) in lanes of
+            // (low, high) halves.
+            let half = |h: usize| <$v>::new(core::array::from_fn(|l| VALUE_MIX_HALVES[h][dim + l]));
+            let (lo, hi) = mix64_halves(
+                half(0) ^ <$v>::splat(seed.0 as u32),
+                half(1) ^ <$v>::splat((seed.0 >> 32) as u32),
+            );
+            let mul = hi | <$v>::splat(1);
+            $reverse($owen(x, lo, mul)).to_array().map(unit_f32)
+        }
+    };
+}
+
+/// [`mix64`](crate::rng::mix64) of `x = hi·2³² + lo` in `u32` lanes:
+/// `x ⊕= x ≫ 33` is `lo ⊕= hi ≫ 1`; `x ·= C` (mod 2⁶⁴) is
+/// `lo' = lo·C_lo`, `hi' = ⌊lo·C_lo / 2³²⌋ + lo·C_hi + hi·C_lo` (mod 2³²).
+macro_rules! mix64_lanes {
+    ($($v:ty),*) => {$(
+        impl MixHalves for $v {
+            #[inline(always)]
+            fn mix64_halves(mut lo: Self, mut hi: Self) -> (Self, Self) {
+                #[inline(always)]
+                fn mul(lo: $v, hi: $v, c: u64) -> ($v, $v) {
+                    let (cl, ch) = (<$v>::splat(c as u32), <$v>::splat((c >> 32) as u32));
+                    (lo * cl, lo.mul_keep_high(cl) + lo * ch + hi * cl)
+                }
+                lo ^= hi >> 1;
+                (lo, hi) = mul(lo, hi, crate::rng::MIX64_C1);
+                lo ^= hi >> 1;
+                (lo, hi) = mul(lo, hi, crate::rng::MIX64_C2);
+                lo ^= hi >> 1;
+                (lo, hi)
+            }
+        }
+    )*};
+}
+
+/// Lane-wise `mix64` on split 64-bit words.
+trait MixHalves: Sized {
+    fn mix64_halves(lo: Self, hi: Self) -> (Self, Self);
+}
+
+mix64_lanes!(u32x4, u32x8);
+
+#[inline(always)]
+fn mix64_halves<V: MixHalves>(lo: V, hi: V) -> (V, V) {
+    V::mix64_halves(lo, hi)
+}
+
+sample_lanes!(sample_lanes4, u32x4, 4, owen_rev_x4, reverse_x4);
+sample_lanes!(sample_lanes8, u32x8, 8, owen_rev_x8, reverse_x8);
 
 /// The reversed shuffled index `t = scramble(reverse(i))`.
 #[inline(always)]
@@ -421,6 +568,40 @@ impl Sobol<1> {
     pub fn sample_unscrambled(index: u32, dim: u32) -> f32 {
         assert_dim(dim);
         unit_f32(sobol_u32(index, dim))
+    }
+
+    /// Dimensions `dim, dim + 1, dim + 2, dim + 3` of sample `index` at once,
+    /// in SIMD lanes: `[Sobol::sample(index, dim + l, seed); l = 0..4]`, bit
+    /// for bit. The index scramble is computed once for the four lanes, the
+    /// generator-matrix product reads one vector of the four dimensions'
+    /// direction numbers per pair of index bits, and the value scrambles run lane by
+    /// lane (see the [`Sobol`] docs for the construction). `dim` need not be
+    /// a multiple of 4.
+    ///
+    /// [`Sequence::sample_4d`](crate::sequence::Sequence::sample_4d) is the
+    /// checked form (an error instead of a panic).
+    ///
+    /// # Panics
+    /// If `dim + 4 > SOBOL_DIMENSIONS`, in every build.
+    #[inline]
+    #[must_use]
+    #[track_caller]
+    pub fn sample_4d(index: u32, dim: u32, seed: Seed) -> [f32; 4] {
+        assert_dim(dim.saturating_add(3));
+        sample_lanes4(index, dim as usize, seed)
+    }
+
+    /// Dimensions `dim … dim + 7` of sample `index` at once, in SIMD lanes:
+    /// [`Sobol::sample_4d`] with eight lanes (one 256-bit vector with AVX2).
+    ///
+    /// # Panics
+    /// If `dim + 8 > SOBOL_DIMENSIONS`, in every build.
+    #[inline]
+    #[must_use]
+    #[track_caller]
+    pub fn sample_8d(index: u32, dim: u32, seed: Seed) -> [f32; 8] {
+        assert_dim(dim.saturating_add(7));
+        sample_lanes8(index, dim as usize, seed)
     }
 }
 
