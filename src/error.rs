@@ -69,6 +69,13 @@ pub enum PatternError {
         /// Number of dimensions.
         max: u32,
     },
+    /// The parameter `name` has the value `value`, which is not a power of two.
+    PowerOfTwo {
+        /// Name of the parameter (as in the API, e.g. `"spp"`).
+        name: &'static str,
+        /// Value given.
+        value: u64,
+    },
     /// `radius` is NaN, infinite, or not `> 0`.
     Radius,
     /// `radius` is so small that the background grid would need `cells` cells
@@ -142,6 +149,9 @@ impl fmt::Display for PatternError {
                     f,
                     "dim = {dim} is out of range (the sequence has {max} dimensions)"
                 )
+            }
+            PatternError::PowerOfTwo { name, value } => {
+                write!(f, "{name} = {value} must be a power of two")
             }
             PatternError::Radius => write!(f, "radius must be finite and > 0"),
             PatternError::GridTooLarge { cells, max } => write!(

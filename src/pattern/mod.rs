@@ -48,6 +48,7 @@ mod pmj;
 mod poisson;
 mod random;
 mod sobol;
+mod zsobol;
 
 #[cfg(feature = "glam")]
 mod glam;
@@ -70,6 +71,7 @@ pub use poisson::{
 };
 pub use random::Random;
 pub use sobol::{Sobol, SOBOL_DIMENSIONS};
+pub use zsobol::{ZSobol, ZSobolPixel, ZSOBOL_MAX_INDEX_BITS};
 
 use crate::error::PatternError;
 use crate::num::to_unit_f32;

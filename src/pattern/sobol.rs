@@ -415,6 +415,19 @@ fn sample_keyed(index: u32, dim: usize, ki: OwenKey, kv: OwenKey) -> f32 {
     unit_f32(y.reverse_bits())
 }
 
+/// Dimension `dim < 16` of the Sobol' point with index `index` itself (no
+/// index shuffle), Owen-scrambled with the key drawn from the 64-bit `stream`
+/// (its low half additive, its high half the odd multiplier): the ZSobol
+/// value, whose index is already a hierarchical permutation.
+#[inline]
+pub(crate) fn sample_unshuffled(index: u32, dim: usize, stream: u64) -> f32 {
+    let y = owen_rev(
+        matvec_rev(index.reverse_bits(), dim),
+        OwenKey::from_stream(stream),
+    );
+    unit_f32(y.reverse_bits())
+}
+
 /// Owen-scrambled Sobol' points (Burley 2020): point `k` is
 /// `(Sobol::sample(k, 0, σ), …, Sobol::sample(k, D−1, σ))`, dimensions `0..D` of the
 /// sequence.

@@ -73,9 +73,14 @@
 
 mod amplitudes;
 mod dft;
+mod image;
 
 pub use amplitudes::{AmplitudeView, Amplitudes};
 pub use dft::Dft;
+pub use image::{
+    image_band_mean, image_periodogram, image_periodogram_scratch, image_ring_means,
+    image_white_level,
+};
 
 use crate::error::{ParamError, SpectrumError};
 use crate::num::{sinc, two_sum};

@@ -7,6 +7,7 @@ pub mod convergence;
 pub mod gallery;
 pub mod paper;
 pub mod patterns;
+pub mod pixel_error;
 pub mod scene;
 pub mod scene_caustic;
 pub mod scene_direct;

@@ -9,6 +9,7 @@ pub mod gallery;
 pub mod images;
 pub mod paper;
 pub mod patterns;
+pub mod pixel_error;
 pub mod samples;
 pub mod scene;
 pub mod scene_theory;
