@@ -128,7 +128,7 @@ pub mod stats;
 pub mod strategy;
 pub mod world;
 
-pub use error::{EstimateError, ParamError, PatternError, SeedError, SpectrumError};
+pub use error::{Error, EstimateError, ParamError, PatternError, SeedError, SpectrumError};
 pub use rng::{Pcg32, Seed};
 
 /// The `glam` version this crate's interop is written against (feature `glam`).
