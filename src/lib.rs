@@ -23,10 +23,12 @@
 //! * world-space closed forms a renderer calls along its rays ([`world`]:
 //!   sphere entry/exit and clipped chords, Gaussian segment integrals,
 //!   transmittance and opacity, half-spaces and slabs; exact `f64` and 8-lane
-//!   `f32` batches), which the torus integrands periodise, and the rendering
-//!   problems built on them: ambient occlusion by spheres, direct light from
+//!   `f32` batches), which the torus integrands periodise. The rendering
+//!   problems built on them (ambient occlusion by spheres, direct light from
 //!   a rectangular light along lines, and photon points and beams through a
-//!   glass ball into a medium (volumetric caustics);
+//!   glass ball into a medium: volumetric caustics) are not in this crate
+//!   but in the repository's `linesample-scene` crate
+//!   (`linesample_scene::{occlusion, direct_light, caustic}`);
 //! * random access into sample patterns ([`sequence::Sequence`]) and
 //!   per-pixel seeds ([`sequence::pixel_seed`]).
 //!

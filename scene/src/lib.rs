@@ -9,11 +9,12 @@
 //!   point's normal at a time (the angles a sphere occludes, and the
 //!   cosine-weighted visible measure of an angle interval), in `f64` and
 //!   as an `f32` SIMD batch of lines and segments;
-//! * [`direct_light`] and [`direct_light_f32`]: direct light from a
-//!   rectangular light onto a diffuse receiver along lines across the
-//!   light (Billen & Dutré 2016), with the exact visibility of convex
-//!   occluder faces projected onto the light's plane, in `f64` and as an
-//!   `f32` SIMD batch;
+//! * [`direct_light`] ([`QuadLight`], [`Parallelogram`], [`Shadow`],
+//!   [`DirectLight`]) and [`direct_light_f32`] ([`DirectLight32`]): direct
+//!   light from a rectangular light onto a diffuse receiver along lines
+//!   across the light (Billen & Dutré 2016), with the exact visibility of
+//!   convex occluder faces projected onto the light's plane, in `f64` and
+//!   as an `f32` SIMD batch;
 //! * [`camera`]: the pinhole camera of the scene files (pbrt's
 //!   conventions), whose ray per pixel finds the shading point;
 //! * [`caustic`]: photon points and photon beams through a glass ball
@@ -87,6 +88,8 @@ pub mod occlusion_f32;
 pub mod schema;
 mod vec3;
 
+pub use direct_light::{DirectLight, Parallelogram, QuadLight, Shadow};
+pub use direct_light_f32::DirectLight32;
 #[cfg(feature = "alloc")]
 pub use effect::{CameraEffect, Effect};
 pub use error::Error;

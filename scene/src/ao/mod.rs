@@ -23,7 +23,7 @@
 //! gives `[(1/ℓ) ∫_{θ_c−ℓ/2}^{θ_c+ℓ/2} g dt]/p(φ, θ_c)`, unbiased because
 //! every `t` is covered by the centres within `ℓ/2` of it, of total measure
 //! `ℓ`; a line uses `u` only and gives `∫ g dθ · π = ∫ V|sin θ|cos θ dθ`.
-//! The visible measures are the kernel's closed forms
+//! The visible measures are the closed forms of [`crate::occlusion`]
 //! ([`HalfPlane::visible_wrapped`]).
 //!
 //! The solid-angle and cosine densities with a segment divide by
