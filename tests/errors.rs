@@ -83,21 +83,21 @@ fn expected(case: usize) -> Box<dyn core::error::Error> {
 fn question_mark_converts_every_module_error() {
     for case in 0..5 {
         let e = fails(case).unwrap_err();
-        let ok = match (case, &e) {
-            (0, Error::Pattern(PatternError::ZeroStrata { axis: 0 })) => true,
-            (1, Error::Seed(SeedError::Source)) => true,
-            (2, Error::Param(ParamError::NonFinite { name: "radius" })) => true,
-            (
-                3,
-                Error::Estimate(EstimateError::Param(ParamError::Length {
-                    name: "scratch",
-                    expected: 32,
-                    got: 3,
-                })),
-            ) => true,
-            (4, Error::Spectrum(SpectrumError::HalfWidth { k: 0, .. })) => true,
-            _ => false,
-        };
+        let ok = matches!(
+            (case, &e),
+            (0, Error::Pattern(PatternError::ZeroStrata { axis: 0 }))
+                | (1, Error::Seed(SeedError::Source))
+                | (2, Error::Param(ParamError::NonFinite { name: "radius" }))
+                | (
+                    3,
+                    Error::Estimate(EstimateError::Param(ParamError::Length {
+                        name: "scratch",
+                        expected: 32,
+                        got: 3,
+                    }))
+                )
+                | (4, Error::Spectrum(SpectrumError::HalfWidth { k: 0, .. }))
+        );
         assert!(ok, "case {case}: {e:?}");
         // The text is the inner error's, unchanged.
         assert_eq!(e.to_string(), expected(case).to_string(), "case {case}");
