@@ -1,5 +1,14 @@
 //! Error types. Each variant names the parameter it is about.
+//!
+//! Every fallible function returns the error type of its module
+//! ([`PatternError`], [`SeedError`], [`ParamError`], [`EstimateError`],
+//! [`SpectrumError`]); each of them converts into the one [`Error`], so a
+//! caller that mixes modules writes `Result<_, linesample::Error>` and `?`.
+//! All of them implement [`core::fmt::Display`] and [`core::error::Error`]
+//! (which is `std::error::Error`), also without `std`.
 
+#[cfg(feature = "alloc")]
+use alloc::boxed::Box;
 use core::fmt;
 
 /// Why a pattern could not be built or filled.
@@ -401,5 +410,126 @@ impl core::error::Error for SpectrumError {}
 impl From<ParamError> for SpectrumError {
     fn from(e: ParamError) -> Self {
         SpectrumError::Param(e)
+    }
+}
+
+/// Any error of this crate: one variant per module error type, each of which
+/// converts into it (`From`), so `?` works in a function returning
+/// `Result<_, linesample::Error>` whichever module failed. Available without
+/// `std` and without an allocator.
+///
+/// [`Display`](fmt::Display) is the inner error's text, unchanged, and
+/// [`source`](core::error::Error::source) is the inner error itself (match
+/// on the variant to get it by value).
+///
+/// With the `alloc` feature, [`Error::Other`] holds any other error, boxed:
+/// the crates built on this one convert their errors into it
+/// (`linesample_nufft::NufftError`, `linesample_scene::Error` and
+/// `linesample_scene::schema::SceneError`), and so can a caller's own.
+///
+/// ```
+/// use linesample::pattern::{Jittered, Pattern};
+/// use linesample::world::{Ray, Sphere};
+/// use linesample::{Error, ParamError, Seed};
+///
+/// /// The chord of a sphere along a ray through the first point of a pattern.
+/// fn chord_through_first_point(radius: f64) -> Result<f64, Error> {
+///     let mut pts = [[0.0f32; 2]; 16];
+///     Jittered::new([4, 4])?.fill(Seed::new(7), &mut pts)?; // PatternError
+///     let [x, y] = pts[0].map(f64::from);
+///     let ray = Ray::new([x, y, -2.0], [0.0, 0.0, 1.0])?; // ParamError
+///     Ok(Sphere::new([0.5, 0.5, 0.0], radius)?.chord(&ray))
+/// }
+///
+/// assert!(chord_through_first_point(1.0)? > 0.0);
+/// let e = chord_through_first_point(-1.0).unwrap_err();
+/// assert!(matches!(e, Error::Param(ParamError::OutOfRange { name: "radius", .. })));
+/// assert!(e.to_string().starts_with("radius = -1"));
+/// # Ok::<(), Error>(())
+/// ```
+#[derive(Debug)]
+#[non_exhaustive]
+pub enum Error {
+    /// A pattern could not be built or filled.
+    Pattern(PatternError),
+    /// A seed could not be drawn.
+    Seed(SeedError),
+    /// A parameter of an integrand, primitive, shape or estimator is invalid.
+    Param(ParamError),
+    /// An estimate could not be computed.
+    Estimate(EstimateError),
+    /// A spectrum (periodogram) call was rejected.
+    Spectrum(SpectrumError),
+    /// An error of another crate (feature `alloc`): the crates built on this
+    /// one convert theirs into this variant, whose inner error can be
+    /// recovered with `downcast_ref`.
+    #[cfg(feature = "alloc")]
+    Other(Box<dyn core::error::Error + Send + Sync + 'static>),
+}
+
+impl Error {
+    /// Wraps any other error in [`Error::Other`] (feature `alloc`).
+    #[cfg(feature = "alloc")]
+    #[must_use]
+    pub fn other(e: impl core::error::Error + Send + Sync + 'static) -> Self {
+        Error::Other(Box::new(e))
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Pattern(e) => e.fmt(f),
+            Error::Seed(e) => e.fmt(f),
+            Error::Param(e) => e.fmt(f),
+            Error::Estimate(e) => e.fmt(f),
+            Error::Spectrum(e) => e.fmt(f),
+            #[cfg(feature = "alloc")]
+            Error::Other(e) => e.fmt(f),
+        }
+    }
+}
+
+impl core::error::Error for Error {
+    fn source(&self) -> Option<&(dyn core::error::Error + 'static)> {
+        Some(match self {
+            Error::Pattern(e) => e,
+            Error::Seed(e) => e,
+            Error::Param(e) => e,
+            Error::Estimate(e) => e,
+            Error::Spectrum(e) => e,
+            #[cfg(feature = "alloc")]
+            Error::Other(e) => &**e,
+        })
+    }
+}
+
+impl From<PatternError> for Error {
+    fn from(e: PatternError) -> Self {
+        Error::Pattern(e)
+    }
+}
+
+impl From<SeedError> for Error {
+    fn from(e: SeedError) -> Self {
+        Error::Seed(e)
+    }
+}
+
+impl From<ParamError> for Error {
+    fn from(e: ParamError) -> Self {
+        Error::Param(e)
+    }
+}
+
+impl From<EstimateError> for Error {
+    fn from(e: EstimateError) -> Self {
+        Error::Estimate(e)
+    }
+}
+
+impl From<SpectrumError> for Error {
+    fn from(e: SpectrumError) -> Self {
+        Error::Spectrum(e)
     }
 }

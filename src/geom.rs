@@ -2,10 +2,11 @@
 //! clipping a line to the unit box and splitting a wrapped segment into
 //! pieces, one per unit cell. (Arithmetic primitives live in [`crate::num`].)
 //!
-//! Conventions (see `ARCHITECTURE.md`): a segment or line is the set
-//! `p + t·ω` for `t` in a parameter interval, where `ω` is the stored
-//! [`Direction`] (unit length up to rounding). Closed forms integrate over the
-//! parameter `t`, so they are exact for the stored `f64` values.
+//! Conventions (the [crate's](crate#conventions), for every `f64` API): a
+//! segment or line is the set `p + t·ω` for `t` in a parameter interval,
+//! where `ω` is the stored [`Direction`] (unit length up to rounding).
+//! Closed forms integrate over the parameter `t`, so they are exact for the
+//! stored `f64` values.
 
 use crate::error::ParamError;
 

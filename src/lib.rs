@@ -23,10 +23,12 @@
 //! * world-space closed forms a renderer calls along its rays ([`world`]:
 //!   sphere entry/exit and clipped chords, Gaussian segment integrals,
 //!   transmittance and opacity, half-spaces and slabs; exact `f64` and 8-lane
-//!   `f32` batches), which the torus integrands periodise, and the rendering
-//!   problems built on them: ambient occlusion by spheres, direct light from
+//!   `f32` batches), which the torus integrands periodise. The rendering
+//!   problems built on them (ambient occlusion by spheres, direct light from
 //!   a rectangular light along lines, and photon points and beams through a
-//!   glass ball into a medium (volumetric caustics);
+//!   glass ball into a medium: volumetric caustics) are not in this crate
+//!   but in the repository's `linesample-scene` crate
+//!   (`linesample_scene::{occlusion, direct_light, caustic}`);
 //! * random access into sample patterns ([`sequence::Sequence`]) and
 //!   per-pixel seeds ([`sequence::pixel_seed`]).
 //!
@@ -49,13 +51,53 @@
 //!
 //! ## Conventions
 //!
-//! * Domain: the unit torus `[0, 1)^D`. Coordinates are `f32` and always in
-//!   `[0, 1)`; every sum and statistic elsewhere in the crate is `f64`.
-//! * Determinism: a [`Seed`] (plus a realisation index, [`Seed::realization`])
-//!   fixes every value. Results do not depend on SIMD width, batch size, thread
-//!   count, or on whether the SIMD or the scalar path ran.
-//! * Errors: constructors and fills return `Result` with an error that names the
-//!   parameter; nothing in the public API panics on bad input.
+//! One set for the whole crate, the `f64` and the `f32` APIs alike, and for
+//! the crates built on it; a method's docs state only its own case and
+//! point here.
+//!
+//! * **Domain**: the unit torus `[0, 1)^D`. Pattern coordinates are `f32`
+//!   and always in `[0, 1)`; every sum and statistic elsewhere in the crate
+//!   is `f64`.
+//! * **Units**: none is implied. Positions, radii, `σ`, segment lengths and
+//!   ray parameters are in the caller's length unit, and an integral along
+//!   a ray is in that unit times the integrand's (a chord is a length, a
+//!   Gaussian's line integral a density times a length; the extinction
+//!   `σ_t` is per unit density per unit length). Angles are radians.
+//!   Frequencies `ν` are integer cycles per period of the unit torus,
+//!   `f̂(ν) = ∫ f(x) e^{−2πi ν·x} dx`.
+//! * **Directions and the ray parameter**: every closed form along a line
+//!   integrates over the parameter `t` of `o + t·d` for the direction `d`
+//!   it is given, so anything it returns in `t` (an entry or exit
+//!   parameter, a chord, a clipped length, `∫ F dt`) is in units of `|d|`.
+//!   - The `f64` API takes directions as validated values:
+//!     [`geom::Direction`] (held by [`world::Ray`], [`primitive::Segment`]
+//!     and [`primitive::Line`]) divides any finite non-zero vector by its
+//!     length when it is built, and plane normals are normalised the same
+//!     way. So `|d| = 1` up to rounding and `t` is **arc length**.
+//!   - The `f32` API (the scalar twins `*_f32` and the batches `*_batch_f32`
+//!     over [`primitive::Rays32`]) uses `d` **as given**, any finite non-zero
+//!     vector, and never normalises it: that would cost a square root and a
+//!     division per ray and change the result of every direction already
+//!     rounded to `f32`. Pass unit vectors for arc length (the `f32` result
+//!     then matches the `f64` one for the same ray within the bound each
+//!     method states), or a ray whose `t` is yours (a renderer's
+//!     object-space ray, transformed without renormalising).
+//! * **Angles**: radians, any finite value (reduced where needed), e.g.
+//!   the normal `(cos θ, sin θ)` of [`integrand::HalfSpace::from_angle`].
+//!   The effects built on this crate name their own angles, in the same way
+//!   in their `f64` and `f32` APIs: `linesample-scene`'s crate docs state
+//!   the ambient-occlusion parameterisation (azimuth `φ ∈ [0, π)` naming a
+//!   half-plane through the normal, signed polar angle `θ ∈ (−π/2, π/2)`
+//!   in it) and the direct-light line directions `(cos φ, sin φ)`.
+//! * **Determinism**: a [`Seed`] (plus a realisation index,
+//!   [`Seed::realization`]) fixes every value. Results do not depend on SIMD
+//!   width, batch size, thread count, or on whether the SIMD or the scalar
+//!   path ran.
+//! * **Errors**: constructors and fills return `Result` with an error that
+//!   names the parameter; nothing in the public API panics on bad input.
+//!   Each module's error type converts into the one [`Error`] (also without
+//!   `std`), so `?` works across modules in a function returning
+//!   `Result<_, linesample::Error>`.
 //!
 //! ## SIMD and build flags
 //!
@@ -128,7 +170,7 @@ pub mod stats;
 pub mod strategy;
 pub mod world;
 
-pub use error::{EstimateError, ParamError, PatternError, SeedError, SpectrumError};
+pub use error::{Error, EstimateError, ParamError, PatternError, SeedError, SpectrumError};
 pub use rng::{Pcg32, Seed};
 
 /// The `glam` version this crate's interop is written against (feature `glam`).

@@ -219,8 +219,10 @@ impl<const D: usize> Line<D> {
 /// SIMD free-space closed forms (`*_batch_f32` methods of the integrands).
 ///
 /// All slices must have the same length (checked by the batch functions). `t0`
-/// may be `−∞` and `t1` may be `+∞` (a full line). Directions are used as given:
-/// the integral is over the parameter `t`, so pass unit vectors for arc length.
+/// may be `−∞` and `t1` may be `+∞` (a full line). Directions are used as given,
+/// never normalised: the integral is over the parameter `t`, in units of `|d|`,
+/// so pass unit vectors for arc length (the `f32` side of the [crate's
+/// conventions](crate#conventions)).
 #[derive(Clone, Copy, Debug)]
 pub struct Rays32<'a, const D: usize> {
     /// Origins, one slice per coordinate.

@@ -662,7 +662,9 @@ fn fine_size_for(k: usize, w: usize, sigma: Upsampling) -> u128 {
 
 /// What a [`Plan`] rejects; every message names the parameter. The errors
 /// it shares with the direct path (dimension, buffer lengths, non-finite
-/// weights) are the kernel's [`SpectrumError`].
+/// weights) are the kernel's [`SpectrumError`]. Converts into the kernel's
+/// one error, [`linesample::Error`] (as [`linesample::Error::Other`], boxed),
+/// so `?` mixes it with the kernel's errors.
 #[derive(Clone, Debug, PartialEq)]
 pub enum NufftError {
     /// `tol` is NaN, zero or negative.
@@ -736,6 +738,15 @@ impl From<SpectrumError> for NufftError {
 }
 
 impl std::error::Error for NufftError {}
+
+/// A NUFFT error as the kernel's [`linesample::Error::Other`] (boxed, with the
+/// same text; `downcast_ref::<NufftError>()` recovers it): the kernel cannot
+/// name this crate's types, so its one error holds them boxed.
+impl From<NufftError> for linesample::Error {
+    fn from(e: NufftError) -> Self {
+        linesample::Error::other(e)
+    }
+}
 
 fn check_tol(tol: f64) -> Result<f64, NufftError> {
     if tol.is_nan() || tol <= 0.0 {

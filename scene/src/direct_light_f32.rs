@@ -620,8 +620,9 @@ impl<const N: usize> DirectLight32<N> {
     /// them): 0 for a line that misses the light. The scalar twin of
     /// [`DirectLight32::line_batch_f32`] (the same kernel instantiated for
     /// `f32`, bit-identical lane by lane); error bound against the `f64`
-    /// path in the [module docs](self). NaN for non-finite inputs or a
-    /// direction with `|cos² + sin² − 1| > 10⁻⁵`.
+    /// path in the [module docs](self). The direction is used as given (the
+    /// `f32` case of the crate's [conventions](crate#conventions)): NaN for
+    /// non-finite inputs or a direction with `|cos² + sin² − 1| > 10⁻⁵`.
     #[must_use]
     pub fn line_f32(&self, cos_phi: f32, sin_phi: f32, offset: f32) -> f32 {
         if check_line(cos_phi, sin_phi, offset).is_err() {

@@ -6,6 +6,12 @@ use linesample::ParamError;
 
 /// Why a scene's world or an estimate could not be made. Every message
 /// names what it is about.
+///
+/// With the `alloc` feature it converts into the kernel's one error,
+/// [`linesample::Error`], as [`linesample::Error::Other`] (boxed, with the
+/// same text; `downcast_ref::<linesample_scene::Error>()` recovers it), so
+/// `?` mixes the scene's and the kernel's errors in a function returning
+/// `Result<_, linesample::Error>`. It is `Send + Sync`.
 #[derive(Clone, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Error {
@@ -92,5 +98,15 @@ impl From<ParamError> for Error {
 impl From<linesample_nufft::NufftError> for Error {
     fn from(e: linesample_nufft::NufftError) -> Self {
         Error::Nufft(e)
+    }
+}
+
+/// The scene's error as the kernel's [`linesample::Error::Other`] (boxed):
+/// the kernel cannot name this crate's types (it is a dependency of this
+/// crate), so the one error holds them as a boxed `core::error::Error`.
+#[cfg(feature = "alloc")]
+impl From<Error> for linesample::Error {
+    fn from(e: Error) -> Self {
+        linesample::Error::other(e)
     }
 }

@@ -3,7 +3,8 @@
 //! At a shading point `p` with unit normal `n`, every direction of the upper
 //! hemisphere is `d(φ, θ) = sin θ·a(φ) + cos θ·n` for an azimuth direction
 //! `a(φ) ⊥ n`, `φ ∈ [0, π)`, and a signed polar angle `θ ∈ (−π/2, π/2)`
-//! (negative `θ` leans towards `−a`). The solid-angle element is
+//! (negative `θ` leans towards `−a`; the crate's
+//! [conventions](crate#conventions)). The solid-angle element is
 //! `|sin θ| dθ dφ`, so cosine-weighted ambient occlusion normalised to 1 when
 //! nothing occludes is
 //!
@@ -138,7 +139,8 @@ impl HalfPlane {
 
     /// The half-plane at azimuth `phi` of the frame `(t, n × t, n)` at
     /// `point`: `a(φ) = cos φ·t + sin φ·(n × t)`, with `t` the given tangent
-    /// (its normal component removed).
+    /// (its normal component removed); any finite `φ`, radians
+    /// ([conventions](crate#conventions)).
     ///
     /// # Errors
     /// As [`HalfPlane::new`], and [`ParamError::NonFinite`] (`phi`).
@@ -176,7 +178,8 @@ impl HalfPlane {
         self.a
     }
 
-    /// The unit direction `sin θ·a + cos θ·n`.
+    /// The unit direction `sin θ·a + cos θ·n` (signed `θ`, radians:
+    /// [conventions](crate#conventions)).
     #[must_use]
     pub fn direction(&self, theta: f64) -> [f64; 3] {
         let (s, c) = (libm::sin(theta), libm::cos(theta));
@@ -337,7 +340,8 @@ impl HalfPlane {
     }
 
     /// The cosine-weighted visible measure `∫_{t0}^{t1} V(θ)|sin θ| cos θ dθ`
-    /// of `[t0, t1] ⊆ [−π/2, π/2]` (clamped to it; `t0 ≥ t1` gives 0) among
+    /// of `[t0, t1] ⊆ [−π/2, π/2]` (signed polar angles,
+    /// [conventions](crate#conventions); clamped to it, `t0 ≥ t1` gives 0) among
     /// `spheres`, with `scratch` for the occluded intervals (at least
     /// `2·spheres.len()` long; nothing is allocated).
     ///

@@ -393,7 +393,8 @@ impl<const N: usize> AoPoint32<N> {
     /// Prepares the shading point `point` with normal `normal` and tangent
     /// `tangent` (the frame of [`HalfPlane::at_azimuth`]: normalised, the
     /// tangent's normal component removed; azimuth `φ` is the half-plane of
-    /// `a(φ) = cos φ·t + sin φ·(n × t)`) for `spheres` seen within
+    /// `a(φ) = cos φ·t + sin φ·(n × t)`, as the crate's
+    /// [conventions](crate#conventions) state) for `spheres` seen within
     /// `max_dist` (`+∞` allowed; NaN or `≤ 0` occludes nothing, as in
     /// [`HalfPlane::occluded`]). Everything that does not depend on `φ` is
     /// computed here in `f64` relative to `point`: `q = c − p`, `q·t`,
@@ -673,8 +674,9 @@ impl<const N: usize> AoPoint32<N> {
         L::splat(0.5) * acc
     }
 
-    /// The AO line estimator's summand at azimuth `phi`: the cosine-weighted
-    /// visible measure of the whole half-plane,
+    /// The AO line estimator's summand at azimuth `phi` (radians, any finite
+    /// value: [conventions](crate#conventions)): the cosine-weighted visible
+    /// measure of the whole half-plane,
     ///
     /// ```text
     /// ∫_{−π/2}^{π/2} V(φ, θ) |sin θ| cos θ dθ = Σ_gaps (e|e| − g|g|)/2 ∈ [0, 1]
@@ -726,7 +728,8 @@ impl<const N: usize> AoPoint32<N> {
     }
 
     /// The cosine-weighted visible measure of the wrapped segment
-    /// `[θ0, θ0 + len]` (period `π`, as [`HalfPlane::visible_wrapped`]) in
+    /// `[θ0, θ0 + len]` of signed polar angles (period `π`, as
+    /// [`HalfPlane::visible_wrapped`]; [conventions](crate#conventions)) in
     /// the half-plane at azimuth `phi`: the sum over the gaps `[g, e]` (in
     /// `s = sin θ`) of `(y|y| − x|x|)/2` with `[x, y]` the gap clipped to
     /// `[sin a, sin(a + len)]`, or to `[sin a, 1]` and `[−1, −sin(a + len)]`

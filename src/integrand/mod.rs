@@ -49,11 +49,14 @@ pub trait Integrand<const D: usize>: core::fmt::Debug + Send + Sync {
     fn value_free(&self, x: &[f64; D]) -> f64;
 
     /// `∫_{t0}^{t1} F(p + t·ω) dt` in free space (no periodisation); `t0 ≤ t1`,
-    /// either may be infinite. Exact for the given `f64` inputs up to the error
-    /// stated by the implementation.
+    /// either may be infinite; `ω` is unit, so `t` is arc length
+    /// ([conventions](crate#conventions)). Exact for the given `f64` inputs up
+    /// to the error stated by the implementation.
     fn segment_free(&self, p: &[f64; D], dir: &Direction<D>, t0: f64, t1: f64) -> f64;
 
-    /// The `f32` scalar twin of the SIMD batch: `∫_{t0}^{t1} F(o + t·d) dt`.
+    /// The `f32` scalar twin of the SIMD batch: `∫_{t0}^{t1} F(o + t·d) dt`,
+    /// `d` as given (not normalised: `t` in units of `|d|`,
+    /// [conventions](crate#conventions)).
     fn segment_free_f32(&self, o: [f32; D], d: [f32; D], t0: f32, t1: f32) -> f32;
 
     /// SIMD batch of [`Integrand::segment_free_f32`]: `out[i]` is the free-space

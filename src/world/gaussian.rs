@@ -170,14 +170,16 @@ impl<const D: usize> Gaussian<D> {
     }
 
     /// `∫_{−∞}^{∞} F(o + tω) dt = A·σ√(2π)·e^{−ρ²/2σ²}` (`ρ` the distance from
-    /// the centre to the line), the error of [`Gaussian::segment`].
+    /// the centre to the line; `t` arc length, [conventions](crate#conventions)),
+    /// the error of [`Gaussian::segment`].
     #[must_use]
     pub fn line(&self, ray: &Ray<D>) -> f64 {
         self.segment(ray, f64::NEG_INFINITY, f64::INFINITY)
     }
 
     /// `∫_{t0}^{t1} F(o + tω) dt`, any `t0 ≤ t1` (either may be infinite;
-    /// `t0 > t1` gives the negated integral, NaN propagates).
+    /// `t0 > t1` gives the negated integral, NaN propagates; `t` is arc length
+    /// along the ray's unit `ω`, [conventions](crate#conventions)).
     ///
     /// Evaluation (all with `q = o − c`, `a`, `b`, `t_c = −b/a` and
     /// `ρ² = |q × ω|²/a` in double-double, so the endpoint offsets `t − t_c` are
@@ -489,7 +491,8 @@ impl<const D: usize> Gaussian<D> {
     }
 
     /// `f32` twin of [`Gaussian::segment_batch_f32`]: `∫_{t0}^{t1} F(o + t·d) dt`
-    /// (the parameter is that of the given, not necessarily unit, `d`).
+    /// (`d` as given, not normalised: `t` is in units of `|d|`, and so is the
+    /// integral; [conventions](crate#conventions)).
     ///
     /// `K/√a · e^{−ρ²/2σ²} · (erf(u1) − erf(u0))` with `ρ²` from the cross
     /// product, `q = (o − c_hi) − c_lo` (the centre split into two `f32`s, so
@@ -526,7 +529,8 @@ impl<const D: usize> Gaussian<D> {
         kernel32::<f32, D>(&self.consts32(), o.into(), d.into(), t0, t1)
     }
 
-    /// SIMD batch (8 lanes) of [`Gaussian::segment_f32`], bit-identical to the
+    /// SIMD batch (8 lanes) of [`Gaussian::segment_f32`] (directions as
+    /// given, in units of `|d|` as the scalar twin), bit-identical to the
     /// scalar twin lane by lane; no allocation.
     ///
     /// # Errors
@@ -540,7 +544,9 @@ impl<const D: usize> Gaussian<D> {
     }
 
     /// `f32` transmittance `e^{−σ_t·∫F}` along `o + t·d`, `t ∈ [t0, t1]`: the
-    /// scalar twin of [`Gaussian::transmittance_batch_f32`]. With `ε` the
+    /// scalar twin of [`Gaussian::transmittance_batch_f32`]. `d` is used as
+    /// given and `∫F` is over `t` ([conventions](crate#conventions)), so this
+    /// is the medium's transmittance for a unit `d`. With `ε` the
     /// absolute error of [`Gaussian::segment_f32`], the error is at most
     /// `T·(σ_t·ε + 3e−7)` (the crate's `f32` exponential, relative `3e−7`),
     /// for `τ < 86`; beyond, `T < e^{−86}` flushes to 0.
@@ -556,8 +562,9 @@ impl<const D: usize> Gaussian<D> {
         transmit32::<f32, D>(&self.consts32(), o.into(), d.into(), t0, t1, sigma_t)
     }
 
-    /// SIMD batch (8 lanes) of [`Gaussian::transmittance_f32`], bit-identical
-    /// to the scalar twin lane by lane; no allocation.
+    /// SIMD batch (8 lanes) of [`Gaussian::transmittance_f32`] (directions as
+    /// given, as the scalar twin), bit-identical to the scalar twin lane by
+    /// lane; no allocation.
     ///
     /// # Errors
     /// [`ParamError::Length`] if the slices differ in length.

@@ -3,7 +3,9 @@
 //! Every shape here lives in free space `ℝ^D` (`D = 2, 3`), with any centre and
 //! a size over a huge range, and integrates along a [`Ray`] `o + t·ω` (unit
 //! `ω`, so `t` is arc length) over a parameter interval `[t0, t1]` that may be
-//! infinite:
+//! infinite; the `f32` twins and batches integrate along `o + t·d` with `d`
+//! as given (`t` in units of `|d|`, arc length for a unit `d`), as the
+//! [crate's conventions](crate#conventions) state for the whole crate:
 //!
 //! * [`Sphere`]: entry and exit parameters, chord length, the chord clipped to
 //!   `[t0, t1]` (the integral of the indicator along a segment);
@@ -68,8 +70,10 @@ use crate::error::ParamError;
 
 /// A ray `o + t·ω` in `ℝ^D` with a finite origin and a unit direction
 /// ([`Direction`], normalised at construction), so the parameter `t` is arc
-/// length. Constructors take anything that converts into `[f64; D]`: arrays,
-/// or `glam::DVec2`/`DVec3` (feature `glam`).
+/// length: the `f64` side of the [crate's conventions](crate#conventions)
+/// (the `f32` methods take [`Rays32`] or `o`, `d` as given instead).
+/// Constructors take anything that converts into `[f64; D]`: arrays, or
+/// `glam::DVec2`/`DVec3` (feature `glam`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ray<const D: usize> {
     origin: [f64; D],

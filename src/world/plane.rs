@@ -255,7 +255,8 @@ impl<const D: usize> HalfSpace<D> {
     }
 
     /// The parameter `t* = −(n·o − h)/(n·ω)` where the ray crosses the plane
-    /// (the excess summed exactly, relative error ≤ 2 ulp; `±∞` if it
+    /// (arc length along the ray's unit `ω`, [conventions](crate#conventions);
+    /// the excess summed exactly, relative error ≤ 2 ulp; `±∞` if it
     /// overflows), or `None` if the ray is parallel to it.
     #[must_use]
     pub fn crossing(&self, ray: &Ray<D>) -> Option<f64> {
@@ -269,7 +270,8 @@ impl<const D: usize> HalfSpace<D> {
     }
 
     /// `∫_{t0}^{t1} 1[n·(o + tω) ≥ h] dt`: the length of `[t0, t1]` on the kept
-    /// side (either end may be infinite; the result is then `∞` or finite).
+    /// side (arc length, [conventions](crate#conventions); either end may be
+    /// infinite, the result is then `∞` or finite).
     /// Relative error a few ulp (measured ≤ 2.3e−16, see the
     /// [module docs](self) for the method and the underflow term); `t0 > t1`
     /// gives 0, a NaN end gives 0 (no panic).
@@ -282,10 +284,12 @@ impl<const D: usize> HalfSpace<D> {
         clipped_length(&self.normal.get(), &planes, ray, t0, t1)
     }
 
-    /// `f32` twin of [`HalfSpace::segment_batch_f32`] along `o + t·d`:
-    /// `g = n₃₂·o − h₃₂`, `c = n₃₂·d`, `t* = −g/c`, length of `[t0, t1]` on the
-    /// kept side. Error against the `f64` path at the same (`f32`) inputs, with
-    /// `u = 2⁻²⁴`: the crossing has absolute error
+    /// `f32` twin of [`HalfSpace::segment_batch_f32`] along `o + t·d` (`d` as
+    /// given, not normalised: `t` and the length in units of `|d|`,
+    /// [conventions](crate#conventions)): `g = n₃₂·o − h₃₂`, `c = n₃₂·d`,
+    /// `t* = −g/c`, length of `[t0, t1]` on the kept side. Error against the
+    /// `f64` path at the same (`f32`) inputs, with `u = 2⁻²⁴`: the crossing
+    /// has absolute error
     /// `≲ 6u·(Σ|n_j o_j| + |h| + |t*|·Σ|n_j d_j|)/|n·d|` plus the rounding of
     /// the normal and offset to `f32` (`≤ u(Σ|o_j| + |h|)/|n·d|`), and the
     /// length additionally `≤ 2u(|t0| + |t1|)`. A ray (nearly) parallel to
@@ -301,8 +305,8 @@ impl<const D: usize> HalfSpace<D> {
         half_kernel::<f32, D>(&self.n32, self.h32, o.into(), d.into(), t0, t1)
     }
 
-    /// SIMD batch (8 lanes) of [`HalfSpace::segment_f32`], bit-identical to the
-    /// scalar twin lane by lane.
+    /// SIMD batch (8 lanes) of [`HalfSpace::segment_f32`] (directions as given,
+    /// as the scalar twin), bit-identical to the scalar twin lane by lane.
     ///
     /// # Errors
     /// [`ParamError::Length`] if the slices differ in length.
@@ -382,8 +386,9 @@ impl<const D: usize> Slab<D> {
         excess(&n, self.h0, x).hi >= 0.0 && excess(&n, self.h1, x).hi <= 0.0
     }
 
-    /// `∫_{t0}^{t1} 1[h0 ≤ n·(o + tω) ≤ h1] dt`, relative error a few ulp
-    /// (see the [module docs](self)); `t0 > t1` gives 0.
+    /// `∫_{t0}^{t1} 1[h0 ≤ n·(o + tω) ≤ h1] dt` (arc length,
+    /// [conventions](crate#conventions)), relative error a few ulp (see the
+    /// [module docs](self)); `t0 > t1` gives 0.
     #[must_use]
     pub fn segment(&self, ray: &Ray<D>, t0: f64, t1: f64) -> f64 {
         // n·x − h0 ≥ 0 and −(n·x − h1) ≥ 0.
@@ -401,7 +406,8 @@ impl<const D: usize> Slab<D> {
     }
 
     /// `f32` twin of [`Slab::segment_batch_f32`]: the [`HalfSpace::segment_f32`]
-    /// computation for both planes (same error per crossing).
+    /// computation for both planes (same error per crossing; `d` as given,
+    /// `t` in units of `|d|`, [conventions](crate#conventions)).
     #[must_use]
     pub fn segment_f32(
         &self,
@@ -413,8 +419,8 @@ impl<const D: usize> Slab<D> {
         slab_kernel::<f32, D>(&self.n32, self.h32, o.into(), d.into(), t0, t1)
     }
 
-    /// SIMD batch (8 lanes) of [`Slab::segment_f32`], bit-identical to the
-    /// scalar twin lane by lane.
+    /// SIMD batch (8 lanes) of [`Slab::segment_f32`] (directions as given, as
+    /// the scalar twin), bit-identical to the scalar twin lane by lane.
     ///
     /// # Errors
     /// [`ParamError::Length`] if the slices differ in length.

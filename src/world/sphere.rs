@@ -98,11 +98,14 @@ const TWO_M96: f64 = f64::from_bits((1023 - 96) << 52);
 /// The open sphere (`D = 3`) or disk (`D = 2`) `{x : |x − c| < r}` in free
 /// space: any finite centre, radius `10⁻¹⁰⁰ ≤ r ≤ 10¹⁰⁰`.
 ///
-/// The `f64` methods take a [`Ray`]; they are exact for the given `f64` inputs
-/// up to the relative errors stated on each (see the [module docs](self) for
-/// the algorithm). The `f32` methods take the ray as given (any non-zero `d`,
-/// parameter in units of `|d|`) and use the centre and radius rounded to
-/// `f32`.
+/// The `f64` methods take a [`Ray`], whose direction is unit, so their
+/// parameters and lengths are arc length; they are exact for the given `f64`
+/// inputs up to the relative errors stated on each (see the [module
+/// docs](self) for the algorithm). The `f32` methods take the ray `o + t·d`
+/// as given (any finite non-zero `d`, not normalised: parameters and lengths
+/// in units of `|d|`, arc length for a unit `d`) and use the centre and
+/// radius rounded to `f32`. One convention for both, stated in the [crate
+/// docs](crate#conventions).
 ///
 /// ```
 /// use linesample::world::{Ray, Sphere};
@@ -208,8 +211,9 @@ impl<const D: usize> Sphere<D> {
     }
 
     /// The entry and exit parameters `t− < t+` where the ray's line crosses the
-    /// sphere (negative when behind the origin), or `None` if the line misses
-    /// the open sphere (a tangent line misses it).
+    /// sphere (arc length along the ray's unit direction, negative when behind
+    /// the origin; [conventions](crate#conventions)), or `None` if the line
+    /// misses the open sphere (a tangent line misses it).
     ///
     /// The discriminant is that of the chord (double-double, re-based at the
     /// foot of the perpendicular); the roots are the cancellation-free pair
@@ -234,7 +238,8 @@ impl<const D: usize> Sphere<D> {
         }
     }
 
-    /// The chord length of the ray's whole line, `2√Δ/a`: relative error of a
+    /// The chord length of the ray's whole line, `2√Δ/a` (a length: the ray's
+    /// direction is unit, [conventions](crate#conventions)): relative error of a
     /// few ulp (about `3u + 2⁻¹⁰⁴/(1 − d/r)` for a line at distance `d` from
     /// the centre), 0 for a miss.
     #[must_use]
@@ -243,7 +248,8 @@ impl<const D: usize> Sphere<D> {
     }
 
     /// `∫_{t0}^{t1} 1[|o + tω − c| < r] dt`: the chord clipped to `[t0, t1]`
-    /// (either end may be infinite). Relative error a few ulp for an unclipped
+    /// (either end may be infinite; `t` is arc length along the ray's unit `ω`,
+    /// [conventions](crate#conventions)). Relative error a few ulp for an unclipped
     /// chord; `≤ 8u + 2⁻¹⁰⁰·(r/h + r²/h²)` (`h` the half chord) when an end
     /// clips it, **whatever the clipped length**: `≤ 1e−13` for segments of any
     /// length ending at, starting at or straddling the boundary unless the line
@@ -295,7 +301,9 @@ impl<const D: usize> Sphere<D> {
     }
 
     /// `f32` chord clipped to `[t0, t1]` along `o + t·d` (the scalar twin of
-    /// [`Sphere::segment_batch_f32`]): `q = o − c₃₂`, `a = |d|²`,
+    /// [`Sphere::segment_batch_f32`]; `d` as given, not normalised, so `t0`,
+    /// `t1` and the result are in units of `|d|`:
+    /// [conventions](crate#conventions)): `q = o − c₃₂`, `a = |d|²`,
     /// `t_m = −(q·d)·(1/a)`, `h² = (r₃₂² − |q + t_m d|²)·(1/a)`, result
     /// `max(0, min(t1, t_m + h) − max(t0, t_m − h))` (one division, one square
     /// root, no FMA).
@@ -324,8 +332,9 @@ impl<const D: usize> Sphere<D> {
     }
 
     /// SIMD batch (8 lanes) of [`Sphere::segment_f32`]: `out[i]` for ray `i`
-    /// (pass `t0 = −∞`, `t1 = ∞` for whole chords). Bit-identical to the scalar
-    /// twin, lane by lane; no allocation.
+    /// (pass `t0 = −∞`, `t1 = ∞` for whole chords; directions as given, in
+    /// units of `|d|` as the scalar twin). Bit-identical to the scalar twin,
+    /// lane by lane; no allocation.
     ///
     /// # Errors
     /// [`ParamError::Length`] if the slices differ in length.

@@ -2,8 +2,9 @@
 //! lines in the half-plane parameterisation, for each centre density.
 //!
 //! With the azimuth `φ ∈ [0, π)` naming the half-plane through the normal
-//! and the signed polar angle `θ ∈ (−π/2, π/2)` a direction in it, every
-//! direction of the hemisphere is named once and `dω = |sin θ| dθ dφ`, so
+//! and the signed polar angle `θ ∈ (−π/2, π/2)` a direction in it (the
+//! crate's [conventions](crate#conventions)), every direction of the
+//! hemisphere is named once and `dω = |sin θ| dθ dφ`, so
 //!
 //! ```text
 //! AO = (1/π) ∫_0^π dφ ∫ V(φ, θ) |sin θ| cos θ dθ = ∫∫ g,   g = V|sin θ|cos θ/π.
@@ -23,7 +24,7 @@
 //! gives `[(1/ℓ) ∫_{θ_c−ℓ/2}^{θ_c+ℓ/2} g dt]/p(φ, θ_c)`, unbiased because
 //! every `t` is covered by the centres within `ℓ/2` of it, of total measure
 //! `ℓ`; a line uses `u` only and gives `∫ g dθ · π = ∫ V|sin θ|cos θ dθ`.
-//! The visible measures are the kernel's closed forms
+//! The visible measures are the closed forms of [`crate::occlusion`]
 //! ([`HalfPlane::visible_wrapped`]).
 //!
 //! The solid-angle and cosine densities with a segment divide by

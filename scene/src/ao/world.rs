@@ -30,7 +30,7 @@ pub struct EstimatorSpec {
     pub pdf: CentrePdf,
     /// The pattern of the samples.
     pub sampler: SceneSampler,
-    /// Lines only: the kernel's `f32` SIMD batch
+    /// Lines only: the `f32` SIMD batch
     /// ([`crate::occlusion_f32::AoPoint32::line_batch_f32`]) instead of
     /// the `f64` closed form.
     #[cfg_attr(feature = "serde", serde(default))]

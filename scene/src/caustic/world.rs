@@ -1,4 +1,4 @@
-//! The volumetric-caustic world of a scene: the kernel's [`Caustic`] in
+//! The volumetric-caustic world of a scene: the closed forms' [`Caustic`] in
 //! the scene's dimension, and the mean of photon points or photon beams
 //! over a pattern's samples (points sample the emission angles and the
 //! free-flight distance, `D` coordinates; beams sample the emission angles

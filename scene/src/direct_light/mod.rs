@@ -284,7 +284,8 @@ impl QuadLight {
     }
 
     /// The chord of the line with direction `(cos φ, sin φ)` (normalised
-    /// here) and offset `o` (the line `{p : p·d⊥ = o}`, through `p₀ = o·d⊥`),
+    /// here, the `f64` case of the crate's [conventions](crate#conventions))
+    /// and offset `o` (the line `{p : p·d⊥ = o}`, through `p₀ = o·d⊥`),
     /// or `None` when it misses the rectangle, only touches it, or the
     /// direction is zero or not finite.
     #[must_use]

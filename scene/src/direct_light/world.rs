@@ -35,7 +35,7 @@ pub struct DlEstimator {
     pub lines: Option<Orientation>,
     /// The pattern of the samples.
     pub sampler: SceneSampler,
-    /// Lines only: the kernel's `f32` SIMD batch
+    /// Lines only: the `f32` SIMD batch
     /// ([`crate::direct_light_f32::DirectLight32`]) instead of the `f64`
     /// closed form.
     #[cfg_attr(feature = "serde", serde(default))]
@@ -533,8 +533,8 @@ pub fn orient_rng(seed: Seed) -> linesample::Pcg32 {
 }
 
 /// The estimators of the images: [`estimators`], and the first fixed
-/// orientation's lines once more through the kernel's `f32` SIMD batch
-/// (what accuracy costs in time).
+/// orientation's lines once more through the `f32` SIMD batch
+/// ([`crate::DirectLight32`]: what accuracy costs in time).
 #[must_use]
 pub fn image_estimators(scene: &Scene, sampler: SceneSampler) -> Vec<DlEstimator> {
     let mut v = estimators(scene, sampler);

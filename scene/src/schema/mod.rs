@@ -92,7 +92,8 @@ pub mod caustic;
 
 use crate::model::CausticScene;
 
-/// A scene file's mistake: where it is and what is wrong.
+/// A scene file's mistake: where it is and what is wrong. Converts into
+/// [`linesample::Error`] (as [`linesample::Error::Other`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct SceneError {
     /// The scene file, as the caller named it.
@@ -119,6 +120,14 @@ impl fmt::Display for SceneError {
 }
 
 impl core::error::Error for SceneError {}
+
+/// A scene file's mistake as the kernel's [`linesample::Error::Other`]
+/// (boxed, with the same text), as [`crate::Error`] converts.
+impl From<SceneError> for linesample::Error {
+    fn from(e: SceneError) -> Self {
+        linesample::Error::other(e)
+    }
+}
 
 use crate::ao::CentrePdf;
 use crate::camera::Camera;
