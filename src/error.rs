@@ -370,6 +370,12 @@ pub enum SpectrumError {
     },
     /// A realisation with no samples was added (its periodogram `|F|²/N` is undefined).
     Empty,
+    /// Two prediction accumulators with different integrand `weights` were
+    /// merged; `index` is the first cell where they differ.
+    WeightsMismatch {
+        /// The first differing cell.
+        index: usize,
+    },
     /// The parameter `name` is invalid (see the inner error).
     Param(ParamError),
 }
@@ -400,6 +406,11 @@ impl fmt::Display for SpectrumError {
                 "grids differ: half-width {left} cannot be combined with half-width {right}"
             ),
             SpectrumError::Empty => write!(f, "a realisation must have at least one sample"),
+            SpectrumError::WeightsMismatch { index } => write!(
+                f,
+                "weights differ at cell {index}: predictions of different integrand spectra \
+                 cannot be merged"
+            ),
             SpectrumError::Param(e) => e.fmt(f),
         }
     }

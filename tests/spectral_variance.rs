@@ -16,7 +16,9 @@
 //!
 //! Measured: the sample variance of `M` homogenised estimates from the kernel's
 //! estimators, with its standard error from the fourth moment. The prediction's
-//! standard error comes from the per-realisation predictions. With the combined
+//! standard error is the kernel's (`PredictionStats`, fed the same
+//! realisations), required to agree with the standard error of this file's
+//! own per-realisation predictions to 1e-12. With the combined
 //! `SE = √(SE_pred² + SE_meas²)` and `z = (pred − meas)/SE`, a case passes when
 //!
 //! * `|z| ≤ z_crit`, where `z_crit` is Bonferroni-corrected over all cases of
@@ -44,7 +46,7 @@ use linesample::pattern::{
     Ccvt, Jittered, Pattern, PoissonDisk, PoissonDiskN, PoissonMethod, Random,
 };
 use linesample::primitive::Segment;
-use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
+use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram, PredictionStats};
 use linesample::stats::RunningStats;
 use linesample::{Pcg32, Seed};
 
@@ -119,33 +121,40 @@ fn scratch(len: usize) -> Vec<f32> {
 }
 
 /// Per-realisation predictions `V_r = Σ_{ν≠0} w(ν)·|F_r(ν)|²/N² ` over
-/// `reals` realisations, where `w` already includes the grid multiplicity.
+/// `reals` realisations, where `w` already includes the grid multiplicity,
+/// summed here; the mean periodogram; and the kernel's standard error of the
+/// prediction from the same realisations.
 fn predict<const D: usize>(
     g: Grid<D>,
     weights: &[f64],
     tail: f64,
     reals: u64,
     mut fill: impl FnMut(u64, &mut Dft<D, Vec<f64>>),
-) -> (RunningStats, Periodogram<D, Vec<f64>>) {
+) -> (RunningStats, Periodogram<D, Vec<f64>>, f64) {
     let mut dft = Dft::new_vec(g);
     let mut per = Periodogram::new_vec(g);
+    let mut acc = PredictionStats::new(g, weights).unwrap();
     let mut power = vec![0.0; g.len()];
     let mut st = RunningStats::default();
+    let mut n = 0;
     for r in 0..reals {
         dft.clear();
         fill(r, &mut dft);
         per.add(&dft).unwrap();
+        acc.add(&dft).unwrap();
         dft.power(&mut power).unwrap();
-        let n = dft.count() as f64;
-        let v: f64 = power.iter().zip(weights).map(|(p, w)| p * w).sum::<f64>() / n;
-        st.push(v + tail / n);
+        n = dft.count();
+        let v: f64 = power.iter().zip(weights).map(|(p, w)| p * w).sum::<f64>() / n as f64;
+        st.push(v + tail / n as f64);
     }
-    (st, per)
+    let se = acc.prediction(n).unwrap().std_error.unwrap();
+    (st, per, se)
 }
 
-/// The kernel's prediction from the mean periodogram, checked against this
-/// file's own per-realisation sum (the mean of the `V_r`), and the row.
-fn row(name: &str, api: f64, own: &RunningStats, meas: &RunningStats) -> Row {
+/// The kernel's prediction from the mean periodogram and its standard error,
+/// checked against this file's own per-realisation sums (the mean of the
+/// `V_r` and its standard error), and the row.
+fn row(name: &str, api: f64, api_se: f64, own: &RunningStats, meas: &RunningStats) -> Row {
     // Both are the same sum over the same realisations in a different order
     // (mean of sums vs sum of means, plain vs compensated): rounding only.
     assert!(
@@ -153,10 +162,16 @@ fn row(name: &str, api: f64, own: &RunningStats, meas: &RunningStats) -> Row {
         "{name}: predict_variance {api:e} vs the direct sum {:e}",
         own.mean()
     );
+    // Exact power sums against Welford's update: rounding only.
+    assert!(
+        (api_se / own.mean_std_error() - 1.0).abs() <= 1e-12,
+        "{name}: PredictionStats SE {api_se:e} vs the direct {:e}",
+        own.mean_std_error()
+    );
     Row {
         name: name.to_string(),
         predicted: api,
-        se_pred: own.mean_std_error(),
+        se_pred: api_se,
         measured: meas.variance(),
         se_meas: meas.variance_std_error(),
     }
@@ -199,7 +214,7 @@ fn case<const D: usize>(
     let mut sc = vec![0.0; PTS_SCRATCH * per_p.max(per_s)];
     let pseed = Seed::new(0x5EC7);
     let mut rng = Pcg32::new(77, 3);
-    let (pred, per) = predict(g, &w, tail, reals, |r, dft| {
+    let (pred, per, se) = predict(g, &w, tail, reals, |r, dft| {
         pattern.fill(pseed.realization(r), &mut pts).unwrap();
         match prim {
             Prim::Points => dft.add_points(&pts, &mut sc).unwrap(),
@@ -229,7 +244,7 @@ fn case<const D: usize>(
     let m = run_realisations(est.as_ref(), f, Seed::new(0xE57), 0, meas, true, &mut s).unwrap();
     let p = per.predict_variance(n as u64, |j| f.fourier(&j).norm_sqr());
     let api = parseval_total.map_or(p.grid, |t| p.with_white_tail(t));
-    row(name, api, &pred, &m)
+    row(name, api, se, &pred, &m)
 }
 
 /// Axis lines in `D` dims with `K = D − 1`-dim offsets.
@@ -260,7 +275,7 @@ fn line_case<const D: usize, const K: usize>(
     let mut pts = vec![[0.0f32; K]; n];
     let mut sc = vec![0.0; PTS_SCRATCH * Dft::<K, Vec<f64>>::points_scratch_per_sample(g)];
     let pseed = Seed::new(0x11E5);
-    let (pred, per) = predict(g, &w, 0.0, reals, |r, dft| {
+    let (pred, per, se) = predict(g, &w, 0.0, reals, |r, dft| {
         offsets.fill(pseed.realization(r), &mut pts).unwrap();
         dft.add_points(&pts, &mut sc).unwrap();
     });
@@ -272,7 +287,7 @@ fn line_case<const D: usize, const K: usize>(
     let api = per
         .predict_variance(n as u64, |j| f.fourier(&embed(j)).norm_sqr())
         .grid;
-    row(name, api, &pred, &m)
+    row(name, api, se, &pred, &m)
 }
 
 fn random_direction<const D: usize>(rng: &mut Pcg32) -> Direction<D> {

@@ -39,7 +39,7 @@ const RATES: [&str; 13] = [
     "slope_ci_high",
     "verdict",
 ];
-const PREDICTION: [&str; 10] = [
+const PREDICTION: [&str; 12] = [
     "case",
     "dims",
     "primitive",
@@ -50,6 +50,8 @@ const PREDICTION: [&str; 10] = [
     "predicted_se",
     "measured",
     "measured_se",
+    "ratio",
+    "ratio_se",
 ];
 const COST: [&str; 8] = [
     "integrand",
@@ -199,6 +201,19 @@ fn check_prediction(out: &Path) {
             assert!(rel.abs() <= 0.05, "{r:?}");
         }
         assert!(num(&r[col(&h, "predicted")]) > 0.0);
+        // The ratio and its delta-method SE, √(SE_p² + ratio²·SE_m²)/measured
+        // (a structural check of the columns; the formula is tested in the kernel).
+        let (p, sp, m, sm) = (
+            num(&r[col(&h, "predicted")]),
+            num(&r[col(&h, "predicted_se")]),
+            num(&r[col(&h, "measured")]),
+            num(&r[col(&h, "measured_se")]),
+        );
+        let (q, sq) = (num(&r[col(&h, "ratio")]), num(&r[col(&h, "ratio_se")]));
+        assert!((q - p / m).abs() <= 1e-12 * q.abs(), "{r:?}");
+        assert!((q - 1.0 - rel).abs() <= 1e-12, "{r:?}");
+        let want = sp.hypot(q * sm) / m;
+        assert!(sp > 0.0 && (sq / want - 1.0).abs() <= 1e-12, "{r:?}");
     }
     // Both primitives and both integrands are predicted.
     for (p, i) in [

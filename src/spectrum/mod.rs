@@ -62,6 +62,16 @@
 //! layout that an external transform (a NUFFT) fills, so both paths give the
 //! same numbers from the same amplitudes, bit for bit.
 //!
+//! # The standard error of a prediction
+//!
+//! A prediction is a mean over realisations, so it has a standard error:
+//! `SE = s/√R`, `s` the standard deviation of the per-realisation predictions
+//! `V_r = (1/N) Σ_{ν≠0} N·P_r(ν)·p_f(ν)` (not of the per-cell periodograms,
+//! which are correlated across frequencies). [`PredictionStats`] forms `V_r`
+//! for each realisation against integrand weights registered up front
+//! ([`Grid::spectrum_weights`]) and reports the prediction with its standard
+//! error ([`Prediction::std_error`]); it merges exactly, like the periodogram.
+//!
 //! # Persisting accumulators
 //!
 //! [`Periodogram::parts`] and [`Periodogram::from_parts`] (and
@@ -74,6 +84,7 @@
 mod amplitudes;
 mod dft;
 mod image;
+mod prediction;
 
 pub use amplitudes::{AmplitudeView, Amplitudes};
 pub use dft::Dft;
@@ -81,6 +92,7 @@ pub use image::{
     image_band_mean, image_periodogram, image_periodogram_scratch, image_ring_means,
     image_white_level,
 };
+pub use prediction::PredictionStats;
 
 use crate::error::{ParamError, SpectrumError};
 use crate::num::{sinc, two_sum};
@@ -670,7 +682,10 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// or the pre-filtered `|f̂(ν)|²·sinc²(λν·ω)` of segments (Pilleboue et al.
     /// 2015; Singh et al. 2017; `docs/theory.md`, Spectral variance and Segment
     /// and line spectra). See [`Prediction`] for the part of the
-    /// spectrum outside the grid.
+    /// spectrum outside the grid. The mean periodogram does not keep the
+    /// per-realisation spread, so [`Prediction::std_error`] is `None` here;
+    /// [`PredictionStats`], fed the same realisations, gives the same
+    /// prediction with its standard error.
     #[must_use]
     pub fn predict_variance(&self, n: u64, mut p_f: impl FnMut([i32; D]) -> f64) -> Prediction {
         let (mut s, mut se) = (0.0, 0.0);
@@ -691,21 +706,39 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
         }
         Prediction {
             grid: (s + se) / n as f64,
+            std_error: None,
             pf_in_grid: f + fe,
             n,
+            realisations: self.realisations,
         }
     }
 }
 
-/// A variance prediction from a periodogram truncated to its grid.
+/// A variance prediction from a periodogram truncated to its grid, with its
+/// standard error when the per-realisation spread is known.
+///
+/// Made by [`Periodogram::predict_variance`] (no standard error) and
+/// [`PredictionStats::prediction`] (with it); more fields may be added.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub struct Prediction {
-    /// `(1/N) Σ_{ν≠0 in grid} ⟨N·P⟩·p_f`.
+    /// `V̂ = (1/N) Σ_{ν≠0 in grid} ⟨N·P⟩·p_f`, the mean over the realisations
+    /// of `V_r = (1/N) Σ_{ν≠0 in grid} N·P_r·p_f`.
     pub grid: f64,
+    /// The standard error of [`Prediction::grid`] over the realisations,
+    /// `SE = √(Σ_r (V_r − V̂)²/(R(R − 1)))` (the sample standard deviation of
+    /// the `V_r` over `√R`; see [`PredictionStats`]). It is also the standard
+    /// error of [`Prediction::with_white_tail`] and
+    /// [`Prediction::with_white_outside`], which add a constant. `None` from
+    /// [`Periodogram::predict_variance`] (a mean periodogram does not keep the
+    /// spread) and for fewer than 2 realisations.
+    pub std_error: Option<f64>,
     /// `Σ_{ν≠0 in grid} p_f` (to size the truncated tail).
     pub pf_in_grid: f64,
     /// Samples per realisation.
     pub n: u64,
+    /// Realisations `R` the prediction averages.
+    pub realisations: u64,
 }
 
 impl Prediction {
@@ -713,10 +746,20 @@ impl Prediction {
     /// (`⟨N·P⟩ = 1` there, as for every pattern far above its Nyquist-like
     /// frequency): `grid + (total − pf_in_grid)/N`, where
     /// `total = Σ_{ν≠0} p_f(ν)` over all frequencies — for points
-    /// `∫f² − (∫f)²` by Parseval.
+    /// `∫f² − (∫f)²` by Parseval. Its standard error is
+    /// [`Prediction::std_error`].
     #[must_use]
     pub fn with_white_tail(&self, total: f64) -> f64 {
-        self.grid + (total - self.pf_in_grid).max(0.0) / self.n as f64
+        self.with_white_outside(total - self.pf_in_grid)
+    }
+
+    /// The prediction with a known part of the spectrum outside the grid
+    /// taken as white: `grid + outside/N`, where
+    /// `outside = Σ_{ν∉grid} p_f(ν)` (negative values count as 0). Its
+    /// standard error is [`Prediction::std_error`].
+    #[must_use]
+    pub fn with_white_outside(&self, outside: f64) -> f64 {
+        self.grid + outside.max(0.0) / self.n as f64
     }
 }
 

@@ -30,8 +30,10 @@ use crate::io::{self, FileGroup};
 use crate::{LabError, Result};
 
 /// Version of the state layout and of the cell encodings; a folder written
-/// with another format is refused (start over with `--fresh`).
-pub const FORMAT: u32 = 1;
+/// with another format is refused (start over with `--fresh`). 2: a `paper`
+/// prediction cell stores the kernel's prediction and its standard error per
+/// row, no longer the lab's own per-realisation moments.
+pub const FORMAT: u32 = 2;
 
 /// The manifest of a state folder.
 #[derive(Clone, Debug, Serialize, Deserialize)]

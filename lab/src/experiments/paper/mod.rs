@@ -23,7 +23,7 @@ use linesample::estimator::{Directions, Estimator, LineEstimator};
 use linesample::geom::Direction;
 use linesample::integrand::{HalfSpace, Integrand};
 use linesample::num::sinc;
-use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram};
+use linesample::spectrum::{Dft, Grid, Periodogram, PredictionStats};
 use linesample::stats::RunningStats;
 use linesample::Seed;
 use serde::{Deserialize, Serialize};
@@ -70,12 +70,16 @@ enum Job {
     Nufft,
 }
 
-/// The per-realisation prediction statistics of one predicted row.
+/// The prediction of one predicted row, as the kernel reports it
+/// (`PredictionStats::prediction`, then `Prediction::with_white_outside`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct RowPrediction {
-    /// `RunningStats::parts` of `V_r = (1/N)·(Σ_{ν≠0 in grid} w(ν)·N·P_r(ν) + tail)`.
-    pub n: u64,
-    pub moments: [f64; 4],
+    /// Realisations the prediction averages.
+    pub realisations: u64,
+    /// The predicted variance, with the tail outside the grid taken as white.
+    pub predicted: f64,
+    /// Its standard error over the realisations (`None` below 2).
+    pub predicted_se: Option<f64>,
     /// `Σ p_f` outside the grid (taken as white), or 0.
     pub tail: f64,
 }
@@ -376,14 +380,9 @@ fn weights<const D: usize, const K: usize>(
         }
     };
     let mut w = buffer::filled(grid.len(), 0.0f64, "prediction weights")?;
-    let mut in_grid = 0.0;
-    for (i, x) in w.iter_mut().enumerate() {
-        let j = grid.freq(i);
-        if j.iter().any(|&a| a != 0) {
-            *x = f64::from(grid.multiplicity(i)) * pf(j);
-            in_grid += *x;
-        }
-    }
+    let in_grid = grid
+        .spectrum_weights(pf, &mut w)
+        .map_err(|e| format!("prediction weights: {e}"))?;
     let indicator = matches!(r.integrand.kind, IntegrandKind::Disk | IntegrandKind::Ball);
     let tail = if indicator && r.primitive == Primitive::Points {
         let i = f.integral();
@@ -417,7 +416,8 @@ fn weights_for<const K: usize>(curve: &Curve, grid: Grid<K>) -> Result<(Vec<f64>
 
 /// A prediction cell: realisations of the pattern (independent of the
 /// measured ones), their exact amplitudes, the mean periodogram and, per
-/// predicted row, the per-realisation predictions `V_r`.
+/// predicted row, the kernel's prediction with its standard error
+/// (`PredictionStats`, merged in chunk order).
 fn predict<const K: usize>(cfg: &Config, p: &plan::Prediction, ctx: &Ctx<'_>) -> Result<PredCell> {
     let grid = Grid::<K>::new(p.k).map_err(|e| format!("prediction grid k = {}: {e}", p.k))?;
     let pattern = sampler::build::<K>(&pattern_spec(p.sampler, K, p.n), false)?.pattern;
@@ -427,17 +427,19 @@ fn predict<const K: usize>(cfg: &Config, p: &plan::Prediction, ctx: &Ctx<'_>) ->
         .map(|&(c, _)| weights_for::<K>(&cfg.curves[c], grid))
         .collect::<Result<_, _>>()?;
     let seed = Seed::new(Seed::new(cfg.seed ^ PRED_PURPOSE).stream(p.n as u64));
-    let nf = p.n as f64;
     let chunks = usize::try_from(p.realisations.div_ceil(PRED_CHUNK))
         .map_err(|_| "too many realisations".to_string())?;
     let parts = ctx.map_ordered(chunks, |c| {
         let mut dft = Dft::new_vec(grid);
         let mut per = Periodogram::new_vec(grid);
-        let mut power = buffer::filled(grid.len(), 0.0f64, "power")?;
+        let mut stats = ws
+            .iter()
+            .map(|(w, _)| PredictionStats::new(grid, &w[..]))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|e| format!("prediction weights: {e}"))?;
         let mut pts = buffer::filled(p.n, [0.0f32; K], "pattern points")?;
         let per_sample = Dft::<K, Vec<f64>>::points_scratch_per_sample(grid);
         let mut scratch = buffer::filled(DFT_CHUNK * per_sample, 0.0f64, "transform scratch")?;
-        let mut stats = vec![RunningStats::new(); ws.len()];
         let first = c as u64 * PRED_CHUNK;
         let count = PRED_CHUNK.min(p.realisations - first);
         for r in first..first + count {
@@ -448,39 +450,42 @@ fn predict<const K: usize>(cfg: &Config, p: &plan::Prediction, ctx: &Ctx<'_>) ->
             dft.add_points(&pts, &mut scratch)
                 .map_err(|e| format!("transform: {e}"))?;
             per.add(&dft).map_err(|e| format!("periodogram: {e}"))?;
-            dft.power(&mut power).map_err(|e| format!("power: {e}"))?;
-            for ((w, tail), st) in ws.iter().zip(&mut stats) {
-                let s: f64 = power.iter().zip(w).map(|(a, b)| a * b).sum();
-                st.push((s + tail) / nf);
+            for st in &mut stats {
+                st.add(&dft).map_err(|e| format!("prediction: {e}"))?;
             }
         }
         ctx.advance(count);
         Ok((per, stats))
     })?;
     let mut total = Periodogram::new_vec(grid);
-    let mut stats = vec![RunningStats::new(); ws.len()];
+    let mut stats = ws
+        .iter()
+        .map(|(w, _)| PredictionStats::new(grid, &w[..]))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| format!("prediction weights: {e}"))?;
     for (per, st) in &parts {
         total
             .merge(per)
             .map_err(|e| format!("periodogram merge: {e}"))?;
         for (a, b) in stats.iter_mut().zip(st) {
-            a.merge(b);
+            a.merge(b).map_err(|e| format!("prediction merge: {e}"))?;
         }
     }
     let (sums, realisations) = total.parts();
+    let mut rows = Vec::with_capacity(stats.len());
+    for (st, (_, tail)) in stats.iter().zip(&ws) {
+        let pred = st
+            .prediction(p.n as u64)
+            .map_err(|e| format!("prediction: {e}"))?;
+        rows.push(RowPrediction {
+            realisations: pred.realisations,
+            predicted: pred.with_white_outside(*tail),
+            predicted_se: pred.std_error,
+            tail: *tail,
+        });
+    }
     Ok(PredCell {
-        rows: stats
-            .iter()
-            .zip(&ws)
-            .map(|(st, (_, tail))| {
-                let (n, moments) = st.parts();
-                RowPrediction {
-                    n,
-                    moments,
-                    tail: *tail,
-                }
-            })
-            .collect(),
+        rows,
         periodogram: if p.figure { sums.to_vec() } else { Vec::new() },
         realisations,
     })

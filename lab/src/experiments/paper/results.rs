@@ -4,7 +4,7 @@
 //! ratios, and the timing tables. Everything the report shows and the CSVs
 //! hold comes from here; nothing here writes files.
 
-use linesample::stats::RunningStats;
+use linesample::stats::Ratio;
 use serde::Serialize;
 
 use super::plan::{Curve, Table};
@@ -120,6 +120,10 @@ pub struct PredRow {
     pub measured_se: f64,
     /// `predicted/measured − 1`.
     pub rel: f64,
+    /// `predicted/measured` and its delta-method SE (`stats::Ratio`; NaN
+    /// where either SE is unknown or the measurement is 0).
+    pub ratio: f64,
+    pub ratio_se: f64,
     /// `(predicted − measured)/√(SE_p² + SE_m²)`.
     pub z: f64,
     /// `z_crit·√(SE_p² + SE_m²)/measured ≤ 5 %`: the row can resolve 5 %.
@@ -499,10 +503,11 @@ impl Paper {
                 )));
             }
             for (&(c, r), rp) in p.rows.iter().zip(&pc.rows) {
-                let st = RunningStats::from_parts(rp.n, rp.moments)
-                    .map_err(|e| format!("stored prediction {pi}: {e}"))?;
-                curves[c].predicted[r] = Some((st.mean(), st.mean_std_error()));
-                raw.push((c, r, st.mean(), st.mean_std_error()));
+                // An unknown SE (fewer than 2 realisations) is infinite: the
+                // row cannot disagree and resolves nothing.
+                let se = rp.predicted_se.unwrap_or(f64::INFINITY);
+                curves[c].predicted[r] = Some((rp.predicted, se));
+                raw.push((c, r, rp.predicted, se));
             }
         }
         Ok(raw)
@@ -523,6 +528,8 @@ fn prediction_rows(
             let z = if se > 0.0 { (p - m.variance) / se } else { 0.0 };
             let rel = p / m.variance - 1.0;
             let resolves = z_crit * se / m.variance <= PREDICTION_REL;
+            let (ratio, ratio_se) = Ratio::new(p, pse, m.variance, m.variance_se)
+                .map_or((f64::NAN, f64::NAN), |q| (q.value, q.std_error));
             PredRow {
                 curve: c,
                 row: r,
@@ -532,6 +539,8 @@ fn prediction_rows(
                 measured: m.variance,
                 measured_se: m.variance_se,
                 rel,
+                ratio,
+                ratio_se,
                 z,
                 resolves,
                 agrees: z.abs() <= z_crit && (!resolves || rel.abs() <= PREDICTION_REL),

@@ -50,10 +50,13 @@ Output (OUT = --out, default out/paper):
                       verdict rule); verdict is consistent, not consistent,
                       pre-asymptotic, not fitted, or pitfall (not homogenised).
   OUT/prediction.csv  case,dims,primitive,sampler,integrand,n,predicted,predicted_se,
-                      measured,measured_se, then rel_diff,z,resolves_5pc,agrees: the
-                      spectral variance prediction (mean periodogram of the pattern
-                      times the integrand's power spectrum) against the measured
-                      variance of the same estimator.
+                      measured,measured_se,ratio,ratio_se, then rel_diff,z,
+                      resolves_5pc,agrees: the spectral variance prediction (mean
+                      periodogram of the pattern times the integrand's power
+                      spectrum; its SE from the spread of the per-realisation
+                      predictions) against the measured variance of the same
+                      estimator; ratio = predicted/measured with its delta-method
+                      SE from the two SEs.
   OUT/cost.csv        integrand,dims,primitive,sampler,n,rmse,seconds_per_estimate,
                       evaluations_per_estimate, then relative_rmse,curve: RMSE about
                       the exact integral against the wall time of one estimate on

@@ -1344,7 +1344,11 @@ pub(super) fn section_predictions(cfg: &Config, res: &Results) -> String {
          integrand's power spectrum (<code>|f̂|²</code> for points, <code>|f̂|²·sinc²(λν·ω)</code> \
          for segments, the slice <code>|f̂(ν_⊥, 0)|²</code> for lines), on a grid about twice the \
          pattern's Nyquist radius with a white spectrum assumed outside it. Its standard error \
-         comes from the per-realisation predictions. <b>Coverage:</b> every homogenised curve \
+         is that of a mean over the periodogram realisations, <code>s/√R</code> with \
+         <code>s</code> the spread of the per-realisation predictions \
+         (<code>PredictionStats</code> in the kernel); the ratio predicted/measured carries \
+         the delta-method SE <code>√(SE_p² + ratio²·SE_m²)/measured</code> (columns \
+         <code>ratio</code>, <code>ratio_se</code>). <b>Coverage:</b> every homogenised curve \
          with points, axis-aligned segments or axis-aligned lines, at N up to 1024 for 1D and 2D \
          patterns and 512 for 3D ones (the exact transform costs N·(2k+1)^d′ per realisation); \
          not the direction groups, random directions or the straight edge, whose sampling \
@@ -1362,16 +1366,19 @@ pub(super) fn section_predictions(cfg: &Config, res: &Results) -> String {
     );
     let bad: Vec<_> = res.predictions.iter().filter(|p| !p.agrees).collect();
     if !bad.is_empty() {
-        h.push_str("<table><tr><th>curve</th><th>N</th><th>predicted</th><th>measured</th><th>rel</th><th>z</th></tr>\n");
+        h.push_str("<table><tr><th>curve</th><th>N</th><th>predicted ± SE</th><th>measured ± SE</th><th>predicted/measured ± SE</th><th>z</th></tr>\n");
         for p in bad {
             let _ = writeln!(
                 h,
-                "<tr><td>{}</td><td>{}</td><td>{:.4e}</td><td>{:.4e}</td><td>{:+.3}</td><td>{:+.2}</td></tr>",
+                "<tr><td>{}</td><td>{}</td><td>{:.4e} ± {:.1e}</td><td>{:.4e} ± {:.1e}</td><td>{:.3} ± {:.3}</td><td>{:+.2}</td></tr>",
                 esc(&cfg.curves[p.curve].label()),
                 p.n,
                 p.predicted,
+                p.predicted_se,
                 p.measured,
-                p.rel,
+                p.measured_se,
+                p.ratio,
+                p.ratio_se,
                 p.z
             );
         }

@@ -96,6 +96,10 @@ pub(super) struct PredCsv<'a> {
     #[serde(serialize_with = "table::sci")]
     measured_se: f64,
     #[serde(serialize_with = "table::sci")]
+    ratio: f64,
+    #[serde(serialize_with = "table::sci")]
+    ratio_se: f64,
+    #[serde(serialize_with = "table::sci")]
     rel_diff: f64,
     #[serde(serialize_with = "table::sci")]
     z: f64,
@@ -120,6 +124,8 @@ pub(super) fn prediction_csv(cfg: &Config, res: &Results) -> Result<Table> {
                 predicted_se: p.predicted_se,
                 measured: p.measured,
                 measured_se: p.measured_se,
+                ratio: p.ratio,
+                ratio_se: p.ratio_se,
                 rel_diff: p.rel,
                 z: p.z,
                 resolves_5pc: p.resolves,
