@@ -262,6 +262,29 @@ impl Ratio {
     }
 }
 
+/// The upper-tail standard normal quantile: the `z ≥ 0` with `P(Z > z) = p`,
+/// `p ∈ (0, 1/2]`, found by bisection on `Q(z) = ½·erfc(z/√2)` (monotone)
+/// over `[0, 40]`; 200 halvings reach `f64` resolution. `Q` is evaluated as
+/// `½·erfcx(x)·e^{−x²}` ([`crate::special::erfcx`]), accurate in the far
+/// tail. Used for Bonferroni limits (`z` for a false-alarm rate `p`).
+#[must_use]
+pub fn normal_upper_quantile(p: f64) -> f64 {
+    let q = |z: f64| {
+        let x = z / core::f64::consts::SQRT_2;
+        0.5 * crate::special::erfcx(x) * libm::exp(-x * x)
+    };
+    let (mut lo, mut hi) = (0.0f64, 40.0f64);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if q(mid) > p {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
 /// Chi-square quantile for `df` degrees of freedom at false-alarm probability
 /// 10⁻⁶, the suite's rule for distribution checks (Wilson–Hilferty,
 /// `z = 4.753`; `tests/README.md`).
@@ -290,6 +313,14 @@ mod tests {
         let mean = (sum + comp) / n;
         let m = |p: i32| xs.iter().map(|x| (x - mean).powi(p)).sum::<f64>();
         (mean, m(2), m(3), m(4))
+    }
+
+    #[test]
+    fn normal_upper_quantile_known_values() {
+        // Φ⁻¹(0.975) = 1.959963985; Φ⁻¹(1 − 10⁻⁶) = 4.753424309.
+        assert!((normal_upper_quantile(0.025) - 1.959_963_985).abs() < 1e-8);
+        assert!((normal_upper_quantile(1e-6) - 4.753_424_309).abs() < 1e-8);
+        assert!(normal_upper_quantile(0.5).abs() < 1e-12);
     }
 
     #[test]

@@ -46,6 +46,7 @@ use linesample::pattern::{Jittered, Pattern, Random};
 use linesample::spectrum::{
     jittered_expected, AmplitudeView, Dft, Grid, Periodogram, PredictionStats,
 };
+use linesample::stats::normal_upper_quantile;
 use linesample::stats::Ratio;
 use linesample::{ParamError, Seed, SpectrumError};
 
@@ -460,22 +461,6 @@ fn ratio_standard_error() {
     assert_eq!((r.value, r.std_error), (0.0, 0.25));
 }
 
-/// `Φ⁻¹(1 − p)` for the standard normal, by bisection on
-/// `Q(z) = erfc(z/√2)/2` (monotone; 200 halvings reach `f64` resolution).
-fn upper_normal_quantile(p: f64) -> f64 {
-    let q = |z: f64| 0.5 * libm::erfc(z / core::f64::consts::SQRT_2);
-    let (mut lo, mut hi) = (0.0f64, 40.0f64);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if q(mid) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// Two-sided false-alarm probability of the χ² and binomial checks.
 const ALPHA: f64 = 1e-6;
 /// `|z|` limit of the bias check (tests/README.md: α = 5.7e-7).
@@ -559,7 +544,7 @@ fn helpers_match_tables() {
         assert!((p - 0.95).abs() < 2e-4, "ν = {nu}: {p}");
     }
     // χ²: 0.999 quantile of 100 df is 149.449 (tables).
-    let q = chi2_quantile(100.0, upper_normal_quantile(1e-3));
+    let q = chi2_quantile(100.0, normal_upper_quantile(1e-3));
     assert!(rel(q, 149.449) < 2e-3, "{q}");
 }
 
@@ -632,7 +617,7 @@ fn coverage(
     let sd_pred = se_mean_pred * (m as f64).sqrt();
     let mean_se = ses.iter().sum::<f64>() / m as f64;
     let df = (m - 1) as f64;
-    let z = upper_normal_quantile(ALPHA / 2.0);
+    let z = normal_upper_quantile(ALPHA / 2.0);
     let ratio_bounds = (
         (df / chi2_quantile(df, z)).sqrt(),
         (df / chi2_quantile(df, -z)).sqrt(),

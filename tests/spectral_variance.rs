@@ -47,6 +47,7 @@ use linesample::pattern::{
 };
 use linesample::primitive::Segment;
 use linesample::spectrum::{AmplitudeView, Dft, Grid, Periodogram, PredictionStats};
+use linesample::stats::normal_upper_quantile;
 use linesample::stats::RunningStats;
 use linesample::{Pcg32, Seed};
 
@@ -95,25 +96,9 @@ const RELEASE_CASES: usize = 29;
 /// `|z|` limit of the quick default-suite cases (tests/README.md).
 const QUICK_Z: f64 = 5.0;
 
-/// `Φ⁻¹(1 − p)` for the standard normal, by bisection on
-/// `Q(z) = erfc(z/√2)/2` (monotone; 200 halvings reach `f64` resolution).
-fn upper_normal_quantile(p: f64) -> f64 {
-    let q = |z: f64| 0.5 * libm::erfc(z / core::f64::consts::SQRT_2);
-    let (mut lo, mut hi) = (0.0f64, 40.0f64);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if q(mid) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// The Bonferroni `z_crit` of the release tables.
 fn release_z_crit() -> f64 {
-    upper_normal_quantile(SUITE_ALPHA / (2.0 * RELEASE_CASES as f64))
+    normal_upper_quantile(SUITE_ALPHA / (2.0 * RELEASE_CASES as f64))
 }
 
 fn scratch(len: usize) -> Vec<f32> {

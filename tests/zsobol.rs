@@ -3,6 +3,7 @@
 //! blue, and the measured blue-noise error spectrum against independent
 //! per-pixel seeds; and the image periodogram it is measured with.
 
+use linesample::integrand::{Gaussian, Integrand};
 use linesample::pattern::{Sobol, ZSobol};
 use linesample::sequence::{pixel_seed, Sequence};
 use linesample::spectrum::{image_periodogram, image_periodogram_scratch, image_ring_means};
@@ -244,25 +245,17 @@ fn image_periodogram_equals_the_direct_sum_and_parseval() {
     );
 }
 
-/// A smooth integrand on the unit square and its integral: a Gaussian bump
-/// `exp(−|p − c|²/(2s²))`, integral `2πs²·Π_a [Φ((1 − c_a)/s) − Φ(−c_a/s)]`.
-fn bump(p: [f32; 2]) -> f64 {
-    let (x, y) = (f64::from(p[0]) - 0.3, f64::from(p[1]) - 0.6);
-    (-(x * x + y * y) / (2.0 * 0.2 * 0.2)).exp()
-}
-
-fn bump_integral() -> f64 {
-    let s = 0.2f64;
-    let phi = |t: f64| 0.5 * libm::erfc(-t / std::f64::consts::SQRT_2);
-    let axis = |c: f64| phi((1.0 - c) / s) - phi(-c / s);
-    2.0 * std::f64::consts::PI * s * s * axis(0.3) * axis(0.6)
+/// The smooth integrand: the kernel's periodised Gaussian bump, centre
+/// (0.3, 0.6), σ = 0.2 (the lab's `pixel-error` integrand).
+fn bump() -> Gaussian<2> {
+    Gaussian::new([0.3, 0.6], 0.2).unwrap()
 }
 
 /// Ring means (rings `0..=side/2`) of the periodogram of the per-pixel error
 /// image of `estimate(x, y)`, normalised by the image's mean power without DC
 /// (so that white noise is 1 at every ring), and the rings' frequency counts.
 fn error_rings(side: usize, estimate: impl Fn(u32, u32) -> f64) -> (Vec<f64>, Vec<u64>) {
-    let truth = bump_integral();
+    let truth = bump().integral();
     let mut err = vec![0.0; side * side];
     for y in 0..side {
         for x in 0..side {
@@ -292,25 +285,27 @@ fn error_rings(side: usize, estimate: impl Fn(u32, u32) -> f64) -> (Vec<f64>, Ve
 /// both: white iff within `4.5·se` of 1, blue iff below `1 − 4.5·se` (≈ 0.23).
 /// The independent-seed image must be white and the ZSobol one blue; each
 /// check has a false-alarm rate below about 10⁻⁴ (a Gamma(34) tail at 4.5 SE),
-/// so under 10⁻³ for the three seeds. Measured: ZSobol 0.036–0.085,
-/// independent 0.85–1.09 (printed).
+/// so under 10⁻³ for the three seeds. Measured: ZSobol 0.040–0.087,
+/// independent 0.76–1.22 (printed).
 #[test]
 fn zsobol_error_is_blue_where_independent_pixels_are_white() {
     const SIDE: usize = 64;
     const SPP: u32 = 4;
     const RINGS: usize = 4;
     let z = ZSobol::new(SIDE as u32, SIDE as u32, SPP).unwrap();
+    let f = bump();
+    let value = |p: [f32; 2]| f.value(&[f64::from(p[0]), f64::from(p[1])]);
     for seed in [Seed(1), Seed(2), Seed(3)] {
         let (zs, count) = error_rings(SIDE, |x, y| {
             (0..SPP)
-                .map(|i| bump(z.sample_2d(x, y, i, 0, seed).unwrap()))
+                .map(|i| value(z.sample_2d(x, y, i, 0, seed).unwrap()))
                 .sum::<f64>()
                 / f64::from(SPP)
         });
         let (indep, _) = error_rings(SIDE, |x, y| {
             let s = pixel_seed(seed, x, y, 0);
             (0..SPP)
-                .map(|i| bump([Sobol::sample(i, 0, s), Sobol::sample(i, 1, s)]))
+                .map(|i| value([Sobol::sample(i, 0, s), Sobol::sample(i, 1, s)]))
                 .sum::<f64>()
                 / f64::from(SPP)
         });

@@ -70,6 +70,8 @@ fn bad_parameters_are_one_clear_error() {
     fails_with(&o, "spp = 3 must be a power of two", "spp 3");
     let o = lab(&dir, &["pixel-error", "--width", "0", "--out", "x"]);
     fails_with(&o, "width = 0", "width 0");
+    let o = lab(&dir, &["pixel-error", "--width", "4", "--out", "x"]);
+    fails_with(&o, "at least 8 pixels", "width 4");
     let o = lab(&dir, &["pixel-error", "--realizations", "0", "--out", "x"]);
     fails_with(&o, "--realizations", "realizations 0");
     assert!(!dir.path().join("x").join("rings.csv").exists());

@@ -176,36 +176,23 @@ const fn direction_pairs() -> [[[u32; ROW]; 4]; 16] {
 
 static PAIRS: [[[u32; ROW]; 4]; 16] = direction_pairs();
 
-/// `VALUE_MIX[d] = purpose_mix(VALUE_PURPOSE + d)`: the seed-free half of
-/// every value key, so that `value_key(σ, d)` is one `mix64` of
-/// `σ ⊕ VALUE_MIX[d]` (8 KiB).
-const fn value_mix() -> [u64; NDIM] {
-    let mut m = [0u64; NDIM];
+/// The seed-free half of every value key, `purpose_mix(VALUE_PURPOSE + d)`,
+/// split into its low (`[0][d]`) and high (`[1][d]`) 32-bit words (8 KiB):
+/// `value_key(σ, d)` is one `mix64` of `σ ⊕` it, in
+/// scalar code or, for the batches, in `u32` lanes.
+const fn value_mix_halves() -> [[u32; NDIM]; 2] {
+    let mut h = [[0u32; NDIM]; 2];
     let mut d = 0;
     while d < NDIM {
-        m[d] = purpose_mix(VALUE_PURPOSE + d as u64);
-        d += 1;
-    }
-    m
-}
-
-static VALUE_MIX: [u64; NDIM] = value_mix();
-
-/// [`VALUE_MIX`] split into its low and high 32-bit halves (8 lanes of
-/// padding), for [`mix64`](crate::rng::mix64) in `u32` lanes.
-const fn value_mix_halves() -> [[u32; NDIM + 8]; 2] {
-    let m = value_mix();
-    let mut h = [[0u32; NDIM + 8]; 2];
-    let mut d = 0;
-    while d < NDIM {
-        h[0][d] = m[d] as u32;
-        h[1][d] = (m[d] >> 32) as u32;
+        let m = purpose_mix(VALUE_PURPOSE + d as u64);
+        h[0][d] = m as u32;
+        h[1][d] = (m >> 32) as u32;
         d += 1;
     }
     h
 }
 
-static VALUE_MIX_HALVES: [[u32; NDIM + 8]; 2] = value_mix_halves();
+static VALUE_MIX_HALVES: [[u32; NDIM]; 2] = value_mix_halves();
 
 /// Unscrambled value `x_d(i)` as a 32-bit binary fraction (see
 /// [`Sobol::sobol_u32`]); `dim < SOBOL_DIMENSIONS` (checked by the callers).
@@ -325,7 +312,9 @@ const fn index_key(seed: Seed) -> OwenKey {
 /// the purposes' halves; `dim < SOBOL_DIMENSIONS`.
 #[inline(always)]
 fn value_key(seed: Seed, dim: u32) -> OwenKey {
-    OwenKey::from_stream(seed.stream_premixed(VALUE_MIX[dim as usize]))
+    let d = dim as usize;
+    let m = u64::from(VALUE_MIX_HALVES[0][d]) | u64::from(VALUE_MIX_HALVES[1][d]) << 32;
+    OwenKey::from_stream(seed.stream_premixed(m))
 }
 
 /// Dimensions `dim … dim + L − 1` of one sample in lanes (`L` = 4 or 8,
@@ -345,7 +334,7 @@ macro_rules! sample_lanes {
                 let v: [u32; $l] = core::array::from_fn(|l| row[dim + l]);
                 x ^= <$v>::new(v);
             }
-            // value_key(σ, dim + l) = mix64(σ ⊕ VALUE_MIX[dim + l]) in lanes of
+            // value_key(σ, dim + l) = mix64(σ ⊕ VALUE_MIX_HALVES[·][dim + l]) in lanes of
             // (low, high) halves.
             let half = |h: usize| <$v>::new(core::array::from_fn(|l| VALUE_MIX_HALVES[h][dim + l]));
             let (lo, hi) = mix64_halves(

@@ -126,6 +126,31 @@ pub(crate) fn for_each_power<const D: usize, A: AmplitudeView<D> + ?Sized>(
     });
 }
 
+/// The checks every accumulator makes before adding a realisation (the
+/// periodogram and [`super::PredictionStats`]): the same grid, at least one
+/// sample, every amplitude finite.
+pub(crate) fn check_realisation<const D: usize, A: AmplitudeView<D> + ?Sized>(
+    grid: Grid<D>,
+    a: &A,
+) -> Result<(), SpectrumError> {
+    if a.grid() != grid {
+        return Err(SpectrumError::GridMismatch {
+            left: grid.half_width(),
+            right: a.grid().half_width(),
+        });
+    }
+    if a.count() == 0 {
+        return Err(SpectrumError::Empty);
+    }
+    match first_non_finite(a) {
+        Some(index) => Err(SpectrumError::NonFinite {
+            name: "amplitudes",
+            index,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The lowest half-grid index whose amplitude is NaN or ±∞, if any.
 pub(crate) fn first_non_finite<const D: usize, A: AmplitudeView<D> + ?Sized>(
     a: &A,

@@ -550,16 +550,7 @@ impl<const D: usize, B: AsRef<[f64]> + AsMut<[f64]>> Periodogram<D, B> {
     /// `amplitudes` and the first bad cell) if an amplitude is NaN or ±∞.
     /// Nothing is added on error.
     pub fn add<A: AmplitudeView<D> + ?Sized>(&mut self, amps: &A) -> Result<(), SpectrumError> {
-        self.check_grid(amps.grid())?;
-        if amps.count() == 0 {
-            return Err(SpectrumError::Empty);
-        }
-        if let Some(index) = amplitudes::first_non_finite(amps) {
-            return Err(SpectrumError::NonFinite {
-                name: "amplitudes",
-                index,
-            });
-        }
+        amplitudes::check_realisation(self.grid, amps)?;
         amplitudes::for_each_power(amps, |i, v| self.accumulate(i, v));
         self.realisations += 1;
         Ok(())

@@ -220,21 +220,7 @@ impl<const D: usize, W: AsRef<[f64]>> PredictionStats<D, W> {
     /// (`2^{−e}·S_r ≥ 2⁴⁸⁰`, i.e. `|F|²/N` near `10¹⁴⁴`). Nothing is added on
     /// error.
     pub fn add<A: AmplitudeView<D> + ?Sized>(&mut self, amps: &A) -> Result<f64, SpectrumError> {
-        if amps.grid() != self.grid {
-            return Err(SpectrumError::GridMismatch {
-                left: self.grid.half_width(),
-                right: amps.grid().half_width(),
-            });
-        }
-        if amps.count() == 0 {
-            return Err(SpectrumError::Empty);
-        }
-        if let Some(index) = amplitudes::first_non_finite(amps) {
-            return Err(SpectrumError::NonFinite {
-                name: "amplitudes",
-                index,
-            });
-        }
+        amplitudes::check_realisation(self.grid, amps)?;
         let w = self.weights.as_ref();
         let (dc, scale) = (self.dc, self.scale);
         let (mut s, mut e) = (0.0, 0.0);

@@ -126,13 +126,11 @@ fn error_image(
     for y in 0..h {
         for x in 0..w {
             let mut s = RunningStats::default();
+            let ps = pixel_seed(seed, x, y, 0);
             for i in 0..cfg.spp {
                 let p = match kind {
                     Kind::ZSobol => z.sample_2d(x, y, i, 0, seed)?,
-                    Kind::Independent => {
-                        let ps = pixel_seed(seed, x, y, 0);
-                        [Sobol::sample(i, 0, ps), Sobol::sample(i, 1, ps)]
-                    }
+                    Kind::Independent => [Sobol::sample(i, 0, ps), Sobol::sample(i, 1, ps)],
                 };
                 s.push(f.value(&[f64::from(p[0]), f64::from(p[1])]));
             }
@@ -152,6 +150,15 @@ pub fn run(cfg: &PixelErrorConfig) -> Result<PixelErrorResult> {
     }
     let z = ZSobol::new(cfg.width, cfg.height, cfg.spp)
         .map_err(|e| LabError::Usage(format!("--width/--height/--spp: {e}")))?;
+    if cfg.width.min(cfg.height) < 2 * LOW_BAND as u32 {
+        return Err(LabError::Usage(format!(
+            "--width/--height: at least {} pixels each, so that the image has rings 1..={LOW_BAND} \
+             (got {} x {})",
+            2 * LOW_BAND,
+            cfg.width,
+            cfg.height
+        )));
+    }
     let f = integrand()?;
     let (w, h) = (cfg.width as usize, cfg.height as usize);
     let rings = w.min(h) / 2 + 1;
@@ -181,7 +188,7 @@ pub fn run(cfg: &PixelErrorConfig) -> Result<PixelErrorResult> {
                 *p /= white;
             }
             image_ring_means(&power, w, h, &mut ring_mean, &mut count)?;
-            let (b, n) = image_band_mean(&power, w, h, 1, LOW_BAND.min(rings - 1).max(1))?;
+            let (b, n) = image_band_mean(&power, w, h, 1, LOW_BAND)?;
             band[k].push(b);
             band_n = n;
             for (s, &m) in stats[k].iter_mut().zip(&ring_mean) {

@@ -217,24 +217,9 @@ pub fn t975(dof: usize) -> f64 {
     }
 }
 
-/// Upper-tail normal quantile `z` with `P(Z > z) = p` (bisection on `erfc`).
-#[must_use]
-pub fn normal_quantile(p: f64) -> f64 {
-    let q = |z: f64| {
-        let x = z / std::f64::consts::SQRT_2;
-        0.5 * linesample::special::erfcx(x) * (-x * x).exp()
-    };
-    let (mut lo, mut hi) = (0.0f64, 40.0f64);
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if q(mid) > p {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
+/// Upper-tail normal quantile `z` with `P(Z > z) = p`: the kernel's
+/// [`linesample::stats::normal_upper_quantile`].
+pub use linesample::stats::normal_upper_quantile as normal_quantile;
 
 /// The log-aware fit of rows `(N, Var, SE)`: weighted least squares of
 /// `ln(Var/(ln N)^p)` against `ln N` with weights `(Var/SE)²` (the inverse
