@@ -413,12 +413,18 @@ fn disk(p: [f32; 2]) -> f64 {
     f64::from(u8::from(dx * dx + dy * dy < 0.0625))
 }
 
-/// Sample variance of the estimator over `r` shifted realisations, and the
-/// standard error of its logarithm (delta method with the sample kurtosis).
-fn variance<P: Pattern<2> + Sync>(p: &P, r: usize, f: fn([f32; 2]) -> f64) -> (f64, f64) {
+/// Sample variance of the estimator of each integrand in `fs` over the same `r`
+/// shifted realisations (one fill serves every integrand: the CCVT generation
+/// is the cost), and the standard error of its logarithm (delta method with
+/// the sample kurtosis).
+fn variances<P: Pattern<2> + Sync, const F: usize>(
+    p: &P,
+    r: usize,
+    fs: [fn([f32; 2]) -> f64; F],
+) -> [(f64, f64); F] {
     let n = p.len();
     let threads = std::thread::available_parallelism().map_or(1, |t| t.get());
-    let mut est = vec![0.0f64; r];
+    let mut est = vec![[0.0f64; F]; r];
     std::thread::scope(|s| {
         for (t, chunk) in est.chunks_mut(r.div_ceil(threads)).enumerate() {
             let base = t * r.div_ceil(threads);
@@ -427,19 +433,23 @@ fn variance<P: Pattern<2> + Sync>(p: &P, r: usize, f: fn([f32; 2]) -> f64) -> (f
                 for (k, e) in chunk.iter_mut().enumerate() {
                     let seed = Seed::new(0xCC57).realization((base + k) as u64);
                     p.fill(seed, &mut pts).unwrap();
-                    *e = pts.iter().map(|&x| f(x)).sum::<f64>() / n as f64;
+                    for (ej, f) in e.iter_mut().zip(fs) {
+                        *ej = pts.iter().map(|&x| f(x)).sum::<f64>() / n as f64;
+                    }
                 }
             });
         }
     });
     let rf = r as f64;
-    let mean = est.iter().sum::<f64>() / rf;
-    let m2 = est.iter().map(|e| (e - mean).powi(2)).sum::<f64>() / rf;
-    let m4 = est.iter().map(|e| (e - mean).powi(4)).sum::<f64>() / rf;
-    let kurt = m4 / (m2 * m2);
-    let var = m2 * rf / (rf - 1.0);
-    let se_log = ((kurt - (rf - 3.0) / (rf - 1.0)) / rf).max(0.0).sqrt();
-    (var, se_log)
+    core::array::from_fn(|j| {
+        let mean = est.iter().map(|e| e[j]).sum::<f64>() / rf;
+        let m2 = est.iter().map(|e| (e[j] - mean).powi(2)).sum::<f64>() / rf;
+        let m4 = est.iter().map(|e| (e[j] - mean).powi(4)).sum::<f64>() / rf;
+        let kurt = m4 / (m2 * m2);
+        let var = m2 * rf / (rf - 1.0);
+        let se_log = ((kurt - (rf - 3.0) / (rf - 1.0)) / rf).max(0.0).sqrt();
+        (var, se_log)
+    })
 }
 
 /// Weighted least-squares slope of `ln v` against `ln n` and its standard error.
@@ -460,30 +470,33 @@ fn slope(ns: &[usize], vs: &[(f64, f64)]) -> (f64, f64) {
 /// slopes; returns `[(gaussian), (disk)]` as (CCVT slope, SE, jittered slope, SE,
 /// last local CCVT slope, its SE).
 fn rates(delta: f64, ns: &[usize], r: usize) -> Vec<(f64, f64, f64, f64, f64, f64)> {
-    let mut table = Vec::new();
-    for (name, f) in [
-        ("gaussian", gaussian as fn([f32; 2]) -> f64),
-        ("disk", disk),
-    ] {
-        let mut vc = Vec::new();
-        let mut vj = Vec::new();
-        for &n in ns {
-            let m = (n as f64).sqrt() as usize;
-            let ccvt = Ccvt::<2>::new(n).unwrap().jitter(delta).unwrap();
-            let c = variance(&ccvt.shifted(), r, f);
-            let j = variance(&Jittered::<2>::new([m, m]).unwrap().shifted(), r, f);
+    let names = ["gaussian", "disk"];
+    let fs = [gaussian as fn([f32; 2]) -> f64, disk];
+    // vc[j][k], vj[j][k]: integrand j, size ns[k].
+    let mut vc = [Vec::new(), Vec::new()];
+    let mut vj = [Vec::new(), Vec::new()];
+    for &n in ns {
+        let m = (n as f64).sqrt() as usize;
+        let ccvt = Ccvt::<2>::new(n).unwrap().jitter(delta).unwrap();
+        let c = variances(&ccvt.shifted(), r, fs);
+        let j = variances(&Jittered::<2>::new([m, m]).unwrap().shifted(), r, fs);
+        for (f, name) in names.iter().enumerate() {
             println!(
                 "δ = {delta}: {name:8} N = {n:5}: var CCVT {:.3e} (±{:.0} %), jittered {:.3e} (±{:.0} %)",
-                c.0,
-                100.0 * c.1,
-                j.0,
-                100.0 * j.1
+                c[f].0,
+                100.0 * c[f].1,
+                j[f].0,
+                100.0 * j[f].1
             );
-            vc.push(c);
-            vj.push(j);
+            vc[f].push(c[f]);
+            vj[f].push(j[f]);
         }
-        let (sc, ec) = slope(ns, &vc);
-        let (sj, ej) = slope(ns, &vj);
+    }
+    let mut table = Vec::new();
+    for (f, name) in names.iter().enumerate() {
+        let (vc, vj) = (&vc[f], &vj[f]);
+        let (sc, ec) = slope(ns, vc);
+        let (sj, ej) = slope(ns, vj);
         println!("δ = {delta}: {name:8} slope CCVT {sc:.3} ± {ec:.3}, jittered {sj:.3} ± {ej:.3}");
         let mut last = (0.0, 0.0);
         for k in 0..ns.len() - 1 {
@@ -505,7 +518,7 @@ fn rates(delta: f64, ns: &[usize], r: usize) -> Vec<(f64, f64, f64, f64, f64, f6
 /// faster than for jittered sampling (theory: N^{-2.5} against N^{-2}); for the
 /// disk both fall as N^{-1.5}. R = 200 shifted realisations per point, N = 16 … 4096.
 #[test]
-#[ignore = "slow (~3 min): run with cargo test --release --test ccvt -- --ignored --nocapture"]
+#[ignore = "slow (~1.5 min): run with cargo test --release --test ccvt -- --ignored --nocapture"]
 fn convergence_rate_ccvt_vs_jittered() {
     let ns = [16usize, 64, 256, 1024, 4096];
     let r = 200;
