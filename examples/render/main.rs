@@ -8,6 +8,10 @@
 //! cargo run --release --example render -- out/render.png 640 360 16
 //! ```
 //! (arguments: output path, width, height, samples per pixel; all optional).
+//!
+//! A crate of its own that compiles this file needs `linesample` (default
+//! features), `libm` (the `no_std` maths of `kernel.rs`) and `png`;
+//! `tools/outside_crate.sh` builds it that way, with default flags, in CI.
 
 mod kernel;
 
@@ -110,8 +114,9 @@ fn main() -> Result<(), Box<dyn Error>> {
     let rays = f64::from(width) * f64::from(height) * f64::from(spp);
     let shapes = (balls.len() + puffs.len()) as f64;
     println!(
-        "{width}×{height}, {spp} spp: {rays:.0} rays × {shapes} shapes in {secs:.3} s ({:.1} M ray-shape integrals/s, one thread)",
-        rays * shapes / secs / 1e6
+        "{width}×{height}, {spp} spp: {rays:.0} rays × {shapes} shapes in {secs:.3} s ({:.1} M ray-shape integrals/s, one thread, SIMD level {})",
+        rays * shapes / secs / 1e6,
+        linesample::simd::level().name()
     );
 
     if let Some(dir) = std::path::Path::new(&path).parent() {

@@ -67,7 +67,7 @@ const SPLIT_MAX: f64 = 3.2e299; // < 2⁹⁹⁵ ≈ 3.33e299
 const DEKKER_MIN: f64 = 1.1e-289; // > 2⁻⁹⁶⁰ ≈ 1.026e-289
 
 /// `a·b − p` for `p = fl(a·b)`, exactly, by Dekker's product where it is
-/// exact and `libm::fma` elsewhere (see [`two_prod`]). Compiled in every build
+/// exact and the correctly rounded fused result elsewhere (see [`two_prod`]). Compiled in every build
 /// so that the tests can compare it with the FMA on any machine.
 #[doc(hidden)]
 #[inline(always)]
@@ -78,6 +78,24 @@ pub fn dekker_err(a: f64, b: f64, p: f64) -> f64 {
         let (ah, al) = veltkamp(a);
         let (bh, bl) = veltkamp(b);
         ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    } else {
+        err_outside_dekker(a, b, p)
+    }
+}
+
+/// [`dekker_err`] outside the range where Dekker's product is exact: `+0` for
+/// a zero factor (`a·b − p` is then `(±0) + (∓0) = +0`, what the fused
+/// operation returns), else the correctly rounded `libm::fma(a, b, −p)`.
+///
+/// Out of line and cold, so that a build without FMA has exactly one caller of
+/// the software routine, reached only for zeros, NaN, infinities, factors
+/// above `2⁹⁹⁵` and products below `2⁻⁹⁶⁰` (`tools/outside_crate.sh` checks
+/// a dependent crate's binary for any other caller).
+#[cold]
+#[inline(never)]
+fn err_outside_dekker(a: f64, b: f64, p: f64) -> f64 {
+    if (a == 0.0 && b.is_finite()) || (b == 0.0 && a.is_finite()) {
+        0.0
     } else {
         libm::fma(a, b, -p)
     }
