@@ -160,17 +160,13 @@ fn sample_equals_point_bit_for_bit() {
                     }
                     let four = px.sample_4d(i, 6, seed).unwrap();
                     let eight = px.sample_8d(i, 8, seed).unwrap();
-                    for l in 0..4 {
-                        assert_eq!(
-                            four[l].to_bits(),
-                            px.sample(i, 6 + l as u32, seed).unwrap().to_bits()
-                        );
+                    for (l, v) in four.iter().enumerate() {
+                        let s = px.sample(i, 6 + l as u32, seed).unwrap();
+                        assert_eq!(v.to_bits(), s.to_bits());
                     }
-                    for l in 0..8 {
-                        assert_eq!(
-                            eight[l].to_bits(),
-                            px.sample(i, 8 + l as u32, seed).unwrap().to_bits()
-                        );
+                    for (l, v) in eight.iter().enumerate() {
+                        let s = px.sample(i, 8 + l as u32, seed).unwrap();
+                        assert_eq!(v.to_bits(), s.to_bits());
                     }
                 }
             }
