@@ -14,7 +14,8 @@
 //! # Implementations and cost per point
 //!
 //! Every implementation evaluates only the point asked for, with the scalar
-//! generator of the pattern started at `index`:
+//! generator of the pattern started at `index` (or, for [`Pmj02Pixel`], from
+//! tables generated beforehand):
 //!
 //! | pattern | [`count`](Sequence::count) | [`dimensions`](Sequence::dimensions) | cost of one point |
 //! |---|---|---|---|
@@ -26,6 +27,7 @@
 //! | [`MultiJittered`] | `N` | 2 | counter outputs plus two hash permutations |
 //! | [`CorrelatedMultiJittered`] | `N` | 2 | as [`MultiJittered`] (Kensler 2013 designed CMJ for random access) |
 //! | [`Shifted<P>`] | as `P` | as `P` | as `P`, plus the shift |
+//! | [`Pmj02Pixel`] (a pixel of [`Pmj02Tables`]) | `N` (a power of two) | `2³² − 2` (PMJ02), `2·sets` (PMJ02BN) | `O(1)`: hashes, a batch permutation (pairs ≥ 1), a scramble (PMJ02) or an isometry (PMJ02BN) and one load from the precomputed tables |
 //!
 //! None of them generates the points before `index`. [`Sobol`] and [`Halton`]
 //! points do not depend on the pattern size `N` (a pattern is a prefix of the
@@ -111,6 +113,8 @@
 //! Numbers: As Easy as 1, 2, 3*, SC 2011.
 //!
 //! [`PoissonDisk`]: crate::pattern::PoissonDisk
+//! [`Pmj02Pixel`]: crate::pattern::Pmj02Pixel
+//! [`Pmj02Tables`]: crate::pattern::Pmj02Tables
 
 use crate::error::PatternError;
 use crate::num::to_unit_f32;

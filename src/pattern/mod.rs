@@ -30,10 +30,12 @@
 //! | `Ccvt` (Balzer et al. 2009; `alloc` feature), toroidal | 2–3 | `≤ 2²⁴` (and `N·c ≤ 2³¹` for capacity `c`) |
 //! | [`Pmj02`] (progressive multi-jittered (0,2), Christensen et al. 2018; Pharr 2019): every power-of-two prefix stratified in all elementary intervals (`Pattern` with the `alloc` feature; each fill generates the prefix) | 2 | `≤ 2²⁴` |
 //! | [`Pmj02::blue_noise`] (PMJ02BN: best candidate, Christensen et al. 2018) | 2 | `≤ 2²⁴` |
+//! | [`Pmj02Tables`]: `sets` PMJ02 or PMJ02BN realisations, read per pixel in `O(1)` ([`Pmj02Pixel`], a `Sequence<2>`: Owen-scrambled or moved by one of 32 isometries per pixel and pair, every power-of-two prefix a net) | 2 per pair | a power of two `≤ 2²⁴` |
 //!
-//! Point `k` of the random-access patterns (all of the above but Poisson disk and
-//! CCVT) can also be computed on its own, without the others:
-//! [`crate::sequence::Sequence`]. With the `glam` feature, `PatternGlam` fills
+//! Point `k` of the random-access patterns (all of the above but Poisson disk,
+//! CCVT and [`Pmj02`], whose generation is sequential) can also be computed on
+//! its own, without the others: [`crate::sequence::Sequence`]. PMJ02 gets random
+//! access from precomputed tables, per pixel ([`Pmj02Tables::pixel`]). With the `glam` feature, `PatternGlam` fills
 //! slices of `glam::Vec2`, `Vec3` (cast in place) and `Vec3A`.
 //!
 //! [^1]: R. Cranley, T. N. L. Patterson, *Randomization of Number Theoretic Methods
@@ -45,6 +47,7 @@ mod jittered;
 pub mod multijitter;
 mod nrooks;
 mod pmj;
+mod pmj_pixel;
 mod poisson;
 mod random;
 mod sobol;
@@ -63,6 +66,7 @@ pub use jittered::Jittered;
 pub use multijitter::{CorrelatedMultiJittered, MultiJittered};
 pub use nrooks::NRooks;
 pub use pmj::{Pmj02, PMJ02BN_DEFAULT_CANDIDATES, PMJ02BN_MAX_CANDIDATES, PMJ02_MAX_POINTS};
+pub use pmj_pixel::{Pmj02Pixel, Pmj02Tables, PMJ02BN_TRANSFORMS, PMJ02_TABLES_MAX_SETS};
 #[cfg(feature = "alloc")]
 pub use poisson::PoissonDiskN;
 pub use poisson::{

@@ -46,7 +46,8 @@ const MAX_CELLS: usize = 2;
 /// ([`Pmj02::generate`], [`Pmj02::scratch_len`]). The [`super::Pattern`]
 /// implementation (`alloc` feature) allocates, and **a fill of any range
 /// `first .. first + len` generates the whole prefix of `first + len` points**:
-/// fill all points at once where possible.
+/// fill all points at once where possible. For random access per pixel and
+/// sample index, generate tables once: [`super::Pmj02Tables`].
 ///
 /// # The sequence
 ///

@@ -227,14 +227,14 @@ fn matvec_rev(t: u32, dim: usize) -> u32 {
 
 /// Key of one Owen scramble: an additive key and an odd multiplier.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-struct OwenKey {
+pub(super) struct OwenKey {
     add: u32,
     mul: u32,
 }
 
 impl OwenKey {
     #[inline(always)]
-    const fn from_stream(s: u64) -> Self {
+    pub(super) const fn from_stream(s: u64) -> Self {
         Self {
             add: s as u32,
             mul: (s >> 32) as u32 | 1,
@@ -252,7 +252,7 @@ const LK4: u32 = 0x8D22_F6E6;
 /// Burley 2020): each step changes bit `j` only as a function of bits `0..j`, so
 /// bit `j` of the result is bit `j` of `r` XOR a function of the bits below `j`.
 #[inline(always)]
-const fn owen_rev(mut r: u32, k: OwenKey) -> u32 {
+pub(super) const fn owen_rev(mut r: u32, k: OwenKey) -> u32 {
     r = r.wrapping_add(k.add);
     r ^= r.wrapping_mul(LK1);
     r ^= r.wrapping_mul(LK2);
