@@ -518,7 +518,7 @@ fn rates(delta: f64, ns: &[usize], r: usize) -> Vec<(f64, f64, f64, f64, f64, f6
 /// faster than for jittered sampling (theory: N^{-2.5} against N^{-2}); for the
 /// disk both fall as N^{-1.5}. R = 200 shifted realisations per point, N = 16 … 4096.
 #[test]
-#[ignore = "slow (~1.5 min): run with cargo test --release --test ccvt -- --ignored --nocapture"]
+#[ignore = "slow (~2 min): run with cargo test --release --test ccvt -- --ignored --nocapture"]
 fn convergence_rate_ccvt_vs_jittered() {
     let ns = [16usize, 64, 256, 1024, 4096];
     let r = 200;

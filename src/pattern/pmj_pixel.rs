@@ -176,16 +176,17 @@ const ALL_DIMS: u32 = u32::MAX - 1;
 /// allocation, no state. Measured with `benches/pmj.rs`, groups
 /// `pmj_tables` and `pmj_pixel` (`cargo bench --bench pmj -- --warm-up-time 1
 /// --measurement-time 3 --noplot 'pmj_(tables|pixel)'`), on the development
-/// machine (two shared cores; the figures vary by about 10 %):
+/// machine (two cores, quiet, one run; runs with the machine shared were up
+/// to 30 % slower):
 ///
 /// | | PMJ02 | PMJ02BN |
 /// |---|---|---|
-/// | generate 16 sets × 1024 points | 0.89 ms | 8.5 ms |
-/// | one coordinate, pair 0 (dimensions 0, 1) | 28 ns | 20 ns |
-/// | one coordinate, pairs 1–3 (dimensions 2–7) | 60 ns | 41 ns |
+/// | generate 16 sets × 1024 points | 1.10 ms | 8.56 ms |
+/// | one coordinate, pair 0 (dimensions 0, 1) | 30 ns | 14 ns |
+/// | one coordinate, pairs 1–3 (dimensions 2–7) | 53 ns | 35 ns |
 ///
 /// For reference, [`super::ZSobol::sample`] on the same loop (64 × 64
-/// pixels, 16 samples, dimensions 2–7) takes 79 ns per coordinate.
+/// pixels, 16 samples, dimensions 2–7) takes 69 ns per coordinate.
 ///
 /// [^1]: P. Christensen, A. Kensler, C. Kilpatrick, *Progressive Multi-Jittered
 ///   Sample Sequences*, Computer Graphics Forum 37(4) (EGSR), 2018.
@@ -255,6 +256,16 @@ fn checked_len(n: u32, sets: u32) -> Result<usize, PatternError> {
         });
     }
     Ok(sets as usize * n as usize)
+}
+
+/// Dimensions of a pixel's sequence: `2·sets` for PMJ02BN (one set per
+/// pair), every pair for PMJ02.
+const fn dimensions(blue_noise: bool, sets: u32) -> u32 {
+    if blue_noise {
+        2 * sets
+    } else {
+        ALL_DIMS
+    }
 }
 
 /// The error of a `table` of length `got` where `expected` are needed.
@@ -347,12 +358,14 @@ impl Pmj02Tables<alloc::vec::Vec<[u32; 2]>> {
         let len = Pmj02Tables::table_len(pmj, sets)?;
         let mut table = alloc::vec![[0u32; 2]; len];
         let mut scratch = alloc::vec![0u32; pmj.scratch_len()];
-        Pmj02Tables::generate(pmj, sets, seed, &mut table, &mut scratch)?;
+        let Pmj02Tables {
+            points, blue_noise, ..
+        } = Pmj02Tables::generate(pmj, sets, seed, &mut table, &mut scratch)?;
         Ok(Pmj02Tables {
             table,
-            points: pmj.n() as u32,
+            points,
             sets,
-            blue_noise: pmj.is_blue_noise(),
+            blue_noise,
         })
     }
 }
@@ -440,11 +453,7 @@ impl<T: AsRef<[[u32; 2]]>> Pmj02Tables<T> {
     /// pair), `2·sets` for PMJ02BN (one set per pair; see the type docs).
     #[must_use]
     pub fn dimensions(&self) -> u32 {
-        if self.blue_noise {
-            2 * self.sets
-        } else {
-            ALL_DIMS
-        }
+        dimensions(self.blue_noise, self.sets)
     }
 
     /// Pixel `(x, y)` (any `u32` coordinates) as a [`Sequence<2>`] of `N`
@@ -551,11 +560,7 @@ impl Pmj02Pixel<'_> {
     }
 
     fn dims(&self) -> u32 {
-        if self.blue_noise {
-            2 * self.sets
-        } else {
-            ALL_DIMS
-        }
+        dimensions(self.blue_noise, self.sets)
     }
 
     fn check_index(&self, index: u64) -> Result<u32, PatternError> {
