@@ -288,10 +288,12 @@ pub fn normal_upper_quantile(p: f64) -> f64 {
 /// The upper-tail χ² quantile: the `q` with `P(χ²_df > q) ≈ p`, by the
 /// Wilson–Hilferty approximation (Wilson & Hilferty 1931: `(χ²/df)^{1/3}` is
 /// nearly normal with mean `1 − a` and variance `a`, `a = 2/(9·df)`), so
-/// `q = df·(1 − a + z·√a)³` with `z` = [`normal_upper_quantile`]`(p)`. Its
-/// relative error is below `10⁻³` for `df ≥ 100` and a few percent at
-/// `df = 10` in the far tail (`p = 10⁻⁶`), enough for a rejection limit.
-/// `df > 0`, `p ∈ (0, 1/2]`.
+/// `q = df·(1 − a + z·√a)³` with `z` = [`normal_upper_quantile`]`(p)`.
+/// Against the exact quantile (40-digit inversion of the regularised
+/// incomplete gamma function) at `p = 10⁻⁶` it is high by 15 % at `df = 1`,
+/// 2.3 % at `df = 10`, 0.16 % at `df = 100` and 0.007 % at `df = 1000`, and
+/// by less at `p = 10⁻³`. It errs high for these `df` and `p`, so a rejection
+/// limit built on it alarms less often than `p`. `df > 0`, `p ∈ (0, 1/2]`.
 #[must_use]
 pub fn chi2_upper_quantile(df: f64, p: f64) -> f64 {
     let a = 2.0 / (9.0 * df);
@@ -334,6 +336,31 @@ mod tests {
         assert!((normal_upper_quantile(0.025) - 1.959_963_985).abs() < 1e-8);
         assert!((normal_upper_quantile(1e-6) - 4.753_424_309).abs() < 1e-8);
         assert!(normal_upper_quantile(0.5).abs() < 1e-12);
+    }
+
+    /// Against exact χ² quantiles (the regularised upper incomplete gamma
+    /// function inverted to 40 digits with mpmath 1.3): within the stated
+    /// relative errors, and never below the exact quantile.
+    #[test]
+    fn chi2_upper_quantile_against_exact_quantiles() {
+        // (df, p, exact quantile, stated relative error bound)
+        let cases = [
+            (1.0, 1e-6, 23.928_126_976_934_83, 0.15),
+            (10.0, 1e-6, 46.863_046_846_784_38, 0.024),
+            (63.0, 1e-6, 131.369_702_051_686_8, 0.003),
+            (100.0, 1e-6, 182.126_777_119_547_6, 0.0016),
+            (1000.0, 1e-6, 1_227.152_421_187_576, 7e-5),
+            (10.0, 1e-3, 29.588_298_445_074_42, 0.006),
+            (100.0, 1e-3, 149.449_252_779_038_7, 4e-4),
+        ];
+        for (df, p, exact, bound) in cases {
+            let q = chi2_upper_quantile(df, p);
+            let rel = (q - exact) / exact;
+            assert!(
+                (0.0..bound).contains(&rel),
+                "df {df} p {p}: {q} vs {exact} ({rel:e})"
+            );
+        }
     }
 
     #[test]

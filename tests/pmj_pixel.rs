@@ -9,7 +9,7 @@ use linesample::pattern::{
     Pmj02, Pmj02Pixel, Pmj02Tables, PMJ02BN_TRANSFORMS, PMJ02_MAX_POINTS, PMJ02_TABLES_MAX_SETS,
 };
 use linesample::sequence::Sequence;
-use linesample::stats::chi2_upper_quantile;
+use linesample::stats::{chi2_upper_quantile, RunningStats};
 use linesample::{PatternError, Seed};
 
 const ONES: u32 = (1 << 24) - 1;
@@ -495,22 +495,22 @@ fn blue_noise_variants_are_uniform_and_collide_as_stated() {
 }
 
 /// Mean and variance over pixels of per-pixel estimates.
-fn mean_var(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let m = v.iter().sum::<f64>() / n;
-    (
-        m,
-        v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0),
-    )
+/// The running statistics of `v`.
+fn stats(v: &[f64]) -> RunningStats {
+    let mut s = RunningStats::new();
+    v.iter().for_each(|&x| s.push(x));
+    s
 }
 
-/// Standard error of the sample variance of `v` (from its fourth central
-/// moment: `Var s² ≈ (m₄ − s⁴·(p − 3)/(p − 1))/p`).
+/// Mean and unbiased variance of `v`.
+fn mean_var(v: &[f64]) -> (f64, f64) {
+    let s = stats(v);
+    (s.mean(), s.variance())
+}
+
+/// Standard error of the sample variance of `v`.
 fn var_std_error(v: &[f64]) -> f64 {
-    let p = v.len() as f64;
-    let (m, s2) = mean_var(v);
-    let m4 = v.iter().map(|x| (x - m).powi(4)).sum::<f64>() / p;
-    ((m4 - s2 * s2 * (p - 3.0) / (p - 1.0)) / p).max(0.0).sqrt()
+    stats(v).variance_std_error()
 }
 
 fn correlation(a: &[f64], b: &[f64]) -> f64 {
