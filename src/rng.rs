@@ -35,6 +35,7 @@
 //! [^3]: J. K. Salmon, M. A. Moraes, R. O. Dror, D. E. Shaw, *Parallel Random
 //!   Numbers: As Easy as 1, 2, 3*, SC 2011.
 
+use crate::num::lane::{U32x8Lane, Wu32x8};
 use core::convert::Infallible;
 use wide::u32x8;
 
@@ -310,12 +311,19 @@ impl Counter {
     /// [`CounterX8::next_u32x8`] then moves every lane on by `8·stride`.
     #[must_use]
     pub fn lanes(&self, first: u64, stride: u64) -> CounterX8 {
-        let mut x = CounterX8 {
-            lo: u32x8::ZERO,
-            hi: u32x8::ZERO,
-            wa: u32x8::ZERO,
-            wm: u32x8::ZERO,
-            step_lo: u32x8::ZERO,
+        CounterX8(self.lanes_in(first, stride))
+    }
+
+    /// [`Counter::lanes`] in the lane type `U` of one instruction-set level
+    /// (the pattern fills' dispatched copies).
+    #[must_use]
+    pub(crate) fn lanes_in<U: U32x8Lane>(&self, first: u64, stride: u64) -> CounterLanes<U> {
+        let mut x = CounterLanes {
+            lo: U::splat(0),
+            hi: U::splat(0),
+            wa: U::splat(0),
+            wm: U::splat(0),
+            step_lo: U::splat(0),
             step_hi: 0,
             key: *self,
         };
@@ -329,33 +337,9 @@ impl Counter {
 /// call `b` returns output `first + (8b + l)·stride`, bit-identical to
 /// [`Counter::at`].
 #[derive(Clone, Debug)]
-pub struct CounterX8 {
-    lo: u32x8,
-    hi: u32x8,
-    wa: u32x8,
-    wm: u32x8,
-    step_lo: u32x8,
-    step_hi: u32,
-    key: Counter,
-}
+pub struct CounterX8(CounterLanes<Wu32x8>);
 
 impl CounterX8 {
-    /// Recomputes the per-lane words after `c_hi` changed (rare).
-    #[cold]
-    fn refresh(&mut self) {
-        let hi = self.hi.to_array();
-        if hi.iter().all(|&h| h == hi[0]) {
-            // The usual case (every lane in one 2³²-block): two hashes, not 16.
-            let (a, m) = self.key.words(hi[0]);
-            self.wa = u32x8::splat(a);
-            self.wm = u32x8::splat(m);
-            return;
-        }
-        let w = hi.map(|h| self.key.words(h));
-        self.wa = u32x8::new(w.map(|p| p.0));
-        self.wm = u32x8::new(w.map(|p| p.1));
-    }
-
     /// Calls `f(b, out)` for `b = 0 … count − 1`, where `out` holds the next
     /// `K` results of [`CounterX8::next_u32x8`] in order; the lanes end where
     /// `K·count` calls would leave them.
@@ -365,30 +349,8 @@ impl CounterX8 {
     /// and each vector costs the hash alone, with no carry test.
     #[inline(always)]
     pub fn chunks<const K: usize>(&mut self, count: usize, mut f: impl FnMut(usize, [u32x8; K])) {
-        let mut b = 0;
-        while b < count {
-            let run = (self.carry_free() / K).min(count - b);
-            let (mut lo, wa, wm, step) = (self.lo, self.wa, self.wm, self.step_lo);
-            let step_k = step * u32x8::splat(K as u32);
-            for _ in 0..run {
-                let mut x = lo;
-                f(
-                    b,
-                    core::array::from_fn(|_| {
-                        let out = mix32x8((x ^ wa) * wm);
-                        x += step;
-                        out
-                    }),
-                );
-                lo += step_k;
-                b += 1;
-            }
-            self.lo = lo;
-            if b < count {
-                f(b, core::array::from_fn(|_| self.next_u32x8()));
-                b += 1;
-            }
-        }
+        self.0
+            .chunks(count, |b, v: [Wu32x8; K]| f(b, v.map(|x| x.0)));
     }
 
     /// Moves the lanes to read outputs `first, first + stride, …` again (as
@@ -397,6 +359,81 @@ impl CounterX8 {
     /// enough to call per short run.
     #[inline]
     pub fn seek(&mut self, first: u64, stride: u64) {
+        self.0.seek(first, stride);
+    }
+
+    /// Eight outputs, one per lane, then every lane moves on by `8·stride`.
+    #[inline(always)]
+    pub fn next_u32x8(&mut self) -> u32x8 {
+        self.0.next().0
+    }
+}
+
+/// [`CounterX8`] in the lane type `U` of one instruction-set level.
+#[derive(Clone, Debug)]
+pub(crate) struct CounterLanes<U> {
+    lo: U,
+    hi: U,
+    wa: U,
+    wm: U,
+    step_lo: U,
+    step_hi: u32,
+    key: Counter,
+}
+
+impl<U: U32x8Lane> CounterLanes<U> {
+    /// Recomputes the per-lane words after `c_hi` changed (rare).
+    #[cold]
+    fn refresh(&mut self) {
+        let hi = self.hi.to_array();
+        if hi.iter().all(|&h| h == hi[0]) {
+            // The usual case (every lane in one 2³²-block): two hashes, not 16.
+            let (a, m) = self.key.words(hi[0]);
+            self.wa = U::splat(a);
+            self.wm = U::splat(m);
+            return;
+        }
+        let w = hi.map(|h| self.key.words(h));
+        self.wa = U::from_array(w.map(|p| p.0));
+        self.wm = U::from_array(w.map(|p| p.1));
+    }
+
+    /// [`CounterX8::chunks`].
+    #[inline(always)]
+    pub(crate) fn chunks<const K: usize>(
+        &mut self,
+        count: usize,
+        mut f: impl FnMut(usize, [U; K]),
+    ) {
+        let mut b = 0;
+        while b < count {
+            let run = (self.carry_free() / K).min(count - b);
+            let (mut lo, wa, wm, step) = (self.lo, self.wa, self.wm, self.step_lo);
+            let step_k = step * U::splat(K as u32);
+            for _ in 0..run {
+                let mut x = lo;
+                f(
+                    b,
+                    core::array::from_fn(|_| {
+                        let out = mix32_lanes((x ^ wa) * wm);
+                        x = x + step;
+                        out
+                    }),
+                );
+                lo = lo + step_k;
+                b += 1;
+            }
+            self.lo = lo;
+            if b < count {
+                f(b, core::array::from_fn(|_| self.next()));
+                b += 1;
+            }
+        }
+    }
+
+    /// [`CounterX8::seek`].
+    #[inline]
+    pub(crate) fn seek(&mut self, first: u64, stride: u64) {
         if self.place(first, stride) {
             self.refresh();
         }
@@ -409,11 +446,11 @@ impl CounterX8 {
         let c0 = self.key.offset.wrapping_add(first);
         let c: [u64; 8] = core::array::from_fn(|l| c0.wrapping_add(stride.wrapping_mul(l as u64)));
         let step = stride.wrapping_mul(8);
-        let hi = u32x8::new(c.map(|v| (v >> 32) as u32));
-        self.lo = u32x8::new(c.map(|v| v as u32));
-        self.step_lo = u32x8::splat(step as u32);
+        let hi = U::from_array(c.map(|v| (v >> 32) as u32));
+        self.lo = U::from_array(c.map(|v| v as u32));
+        self.step_lo = U::splat(step as u32);
         self.step_hi = (step >> 32) as u32;
-        let moved = hi.simd_ne(self.hi).any();
+        let moved = hi.ne(self.hi).any();
         self.hi = hi;
         moved
     }
@@ -427,23 +464,25 @@ impl CounterX8 {
         if step == 0 {
             return usize::MAX;
         }
-        let room = (u32x8::MAX - self.lo)
+        let room = self
+            .lo
             .to_array()
             .into_iter()
+            .map(|lo| u32::MAX - lo)
             .min()
             .unwrap_or(0);
         (room / step) as usize
     }
 
-    /// Eight outputs, one per lane, then every lane moves on by `8·stride`.
+    /// [`CounterX8::next_u32x8`].
     #[inline(always)]
-    pub fn next_u32x8(&mut self) -> u32x8 {
-        let out = mix32x8((self.lo ^ self.wa) * self.wm);
+    pub(crate) fn next(&mut self) -> U {
+        let out = mix32_lanes((self.lo ^ self.wa) * self.wm);
         let lo = self.lo + self.step_lo;
-        let carry = lo.simd_lt(self.step_lo); // all ones where the low half wrapped
+        let carry = lo.lt(self.step_lo); // all ones where the low half wrapped
         self.lo = lo;
         if self.step_hi != 0 || carry.any() {
-            self.hi = self.hi + u32x8::splat(self.step_hi) - carry;
+            self.hi = self.hi + U::splat(self.step_hi) - carry;
             self.refresh();
         }
         out
@@ -590,13 +629,19 @@ pub const fn mix32(mut x: u32) -> u32 {
 /// Lane-wise [`mix32`].
 #[inline(always)]
 #[must_use]
-pub fn mix32x8(mut x: u32x8) -> u32x8 {
-    x ^= x >> 16;
-    x *= u32x8::splat(0x85EB_CA6B);
-    x ^= x >> 13;
-    x *= u32x8::splat(0xC2B2_AE35);
-    x ^= x >> 16;
-    x
+pub fn mix32x8(x: u32x8) -> u32x8 {
+    mix32_lanes(Wu32x8(x)).0
+}
+
+/// [`mix32`] in the lanes of any level.
+#[inline(always)]
+#[must_use]
+pub(crate) fn mix32_lanes<U: U32x8Lane>(mut x: U) -> U {
+    x = x ^ (x >> 16);
+    x = x * U::splat(0x85EB_CA6B);
+    x = x ^ (x >> 13);
+    x = x * U::splat(0xC2B2_AE35);
+    x ^ (x >> 16)
 }
 
 #[cfg(test)]

@@ -124,7 +124,6 @@ use crate::pattern::{
     Shifted, Sobol, HALTON_DIMENSIONS, SOBOL_DIMENSIONS,
 };
 use crate::rng::{mix64, Seed, GOLDEN_64};
-use wide::f32x8;
 
 /// A point sequence with random access: point `index` (or one coordinate of
 /// it) computed on its own, without generating the points before it.
@@ -298,11 +297,11 @@ impl<const D: usize> Sink<D> for One<D> {
         }
     }
     #[inline(always)]
-    fn put8(&mut self, i: usize, v: [f32x8; D]) {
+    fn put8<U: crate::num::lane::U32x8Lane>(&mut self, i: usize, v: [U::F; D]) {
         // Never called for a one-point sink (a full block needs 8 points);
         // kept total: lane 0 is point `i`.
         if i == 0 {
-            self.0 = core::array::from_fn(|j| v[j].to_array()[0]);
+            self.0 = core::array::from_fn(|j| crate::pattern::to_array8(v[j])[0]);
         }
     }
 }
@@ -463,14 +462,15 @@ pub const fn pixel_seed(seed: Seed, x: u32, y: u32, dim: u32) -> Seed {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use wide::f32x8;
 
     #[test]
     fn one_point_sink_takes_lane_zero() {
         let mut one = One::<2>([0.0; 2]);
         let v = [f32x8::new([1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0]); 2];
-        one.put8(0, v);
+        one.put8::<crate::num::lane::Wu32x8>(0, v);
         assert_eq!(one.0, [1.0, 1.0]);
-        one.put8(8, [f32x8::ZERO; 2]);
+        one.put8::<crate::num::lane::Wu32x8>(8, [f32x8::ZERO; 2]);
         one.put(3, [9.0, 9.0]);
         assert_eq!(one.0, [1.0, 1.0]);
     }

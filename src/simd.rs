@@ -152,15 +152,19 @@ pub trait Isa {
     type F32: crate::num::lane::F32Lane;
     /// Four `f64` lanes.
     type F64: crate::num::lane::F64Lane;
+    /// Eight `u32` lanes, whose `f32` lanes are [`Isa::F32`].
+    type U32: crate::num::lane::U32x8Lane<F = Self::F32>;
 }
 
-/// The compiled level: `wide`'s `f32x8` and `f64x4`.
+/// The compiled level: `wide`'s `f32x8` and `f64x4`, and
+/// [`crate::num::lane::Wu32x8`] (`wide`'s `u32x8` with an SSE2 multiply).
 #[derive(Clone, Copy, Debug)]
 pub struct Wide;
 
 impl Isa for Wide {
     type F32 = wide::f32x8;
     type F64 = wide::f64x4;
+    type U32 = crate::num::lane::Wu32x8;
 }
 
 /// One hot call, to run at the current [`level`] through [`dispatch`]: a
@@ -254,13 +258,15 @@ mod rt {
         LEVEL.store(v, Ordering::Relaxed);
     }
 
-    /// The run-time AVX2 level: [`crate::num::avx2`]'s `F32x8` and `F64x4`.
+    /// The run-time AVX2 level: [`crate::num::avx2`]'s `F32x8`, `F64x4` and
+    /// `U32x8`.
     #[derive(Clone, Copy, Debug)]
     pub struct Avx2;
 
     impl Isa for Avx2 {
         type F32 = crate::num::avx2::F32x8;
         type F64 = crate::num::avx2::F64x4;
+        type U32 = crate::num::avx2::U32x8;
     }
 
     /// `k.run::<Avx2>()` compiled with AVX2 and FMA enabled.

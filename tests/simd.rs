@@ -324,3 +324,113 @@ fn avx2_lanes_equal_scalar_lanes() {
         assert_eq!(s[l].to_bits(), <f64 as F64Lane>::pow2i(m[l]).to_bits());
     }
 }
+
+/// Every operation of the AVX2 integer lanes and of the compiled level's
+/// (`Wu32x8`, whose multiply is hand-written for SSE2) against scalar `u32`
+/// arithmetic, lane by lane: wrapping products, shifts, unsigned and signed
+/// comparisons on both sides of `2³¹`, selections, conversions, interleaving.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[test]
+fn integer_lanes_equal_scalar_u32() {
+    use linesample::num::avx2::U32x8;
+    use linesample::num::lane::{Lane, U32x8Lane, Wu32x8};
+    let a = [
+        0u32,
+        1,
+        0x7FFF_FFFF,
+        0x8000_0000,
+        u32::MAX,
+        0xDEAD_BEEF,
+        12345,
+        1 << 24,
+    ];
+    let b = [
+        u32::MAX,
+        1,
+        0x8000_0000,
+        0x7FFF_FFFF,
+        3,
+        0x9E37_79B9,
+        12345,
+        7,
+    ];
+    fn check<U: U32x8Lane>(a: [u32; 8], b: [u32; 8], level: &str) {
+        let (va, vb) = (U::from_array(a), U::from_array(b));
+        type Op = (&'static str, fn(u32, u32) -> u32);
+        let ops: [Op; 14] = [
+            ("add", |x, y| x.wrapping_add(y)),
+            ("sub", |x, y| x.wrapping_sub(y)),
+            ("mul", |x, y| x.wrapping_mul(y)),
+            ("and", |x, y| x & y),
+            ("or", |x, y| x | y),
+            ("xor", |x, y| x ^ y),
+            ("shr 13", |x, _| x >> 13),
+            ("shl 7", |x, _| x << 7),
+            ("lt", |x, y| if x < y { u32::MAX } else { 0 }),
+            ("ge", |x, y| if x >= y { u32::MAX } else { 0 }),
+            ("ne", |x, y| if x != y { u32::MAX } else { 0 }),
+            (
+                "gt_i32",
+                |x, y| if (x as i32) > (y as i32) { u32::MAX } else { 0 },
+            ),
+            (
+                "lt_i32",
+                |x, y| if (x as i32) < (y as i32) { u32::MAX } else { 0 },
+            ),
+            ("select", |x, y| if x < y { x } else { y }),
+        ];
+        let got: [U; 14] = [
+            va + vb,
+            va - vb,
+            va * vb,
+            va & vb,
+            va | vb,
+            va ^ vb,
+            va >> 13,
+            va << 7,
+            va.lt(vb),
+            va.ge(vb),
+            va.ne(vb),
+            va.gt_i32(vb),
+            va.lt_i32(vb),
+            U::select(va.lt(vb), va, vb),
+        ];
+        for ((name, f), v) in ops.iter().zip(got) {
+            let r = v.to_array();
+            for l in 0..8 {
+                assert_eq!(r[l], f(a[l], b[l]), "{level} {name} lane {l}");
+            }
+        }
+        assert!(va.lt(vb).any() && !va.lt(U::splat(0)).any(), "{level} any");
+        let mut f = [0f32; 8];
+        (va >> 8).to_f32().store(&mut f);
+        for l in 0..8 {
+            assert_eq!(f[l], (a[l] >> 8) as f32, "{level} to_f32 lane {l}");
+        }
+        let bits = U::from_f32_bits(va.to_f32_bits()).to_array();
+        assert_eq!(bits, a, "{level} bit casts");
+        let (lo, hi) = U::interleave(va, vb);
+        let (lo, hi) = (lo.to_array(), hi.to_array());
+        for l in 0..4 {
+            assert_eq!(
+                [lo[2 * l], lo[2 * l + 1]],
+                [a[l], b[l]],
+                "{level} interleave lo"
+            );
+            assert_eq!(
+                [hi[2 * l], hi[2 * l + 1]],
+                [a[l + 4], b[l + 4]],
+                "{level} interleave hi"
+            );
+        }
+    }
+    check::<Wu32x8>(a, b, "compiled");
+    if simd::avx2_fma_available() {
+        check::<U32x8>(a, b, "avx2");
+    } else {
+        println!("no AVX2 on this CPU: AVX2 integer lanes skipped");
+    }
+}

@@ -16,20 +16,25 @@
 //! comparisons are ordered and quiet (false for NaN), `select` takes the
 //! whole lane from the mask's sign bit (masks are all-ones or all-zeros).
 
-use super::lane::{F32Lane, F64Lane, Lane};
+use super::lane::{F32Lane, F64Lane, Lane, U32x8Lane};
 use core::arch::x86_64::{
-    __m256, __m256d, _mm256_add_epi32, _mm256_add_epi64, _mm256_add_pd, _mm256_add_ps,
-    _mm256_and_pd, _mm256_and_ps, _mm256_andnot_pd, _mm256_andnot_ps, _mm256_blendv_pd,
-    _mm256_blendv_ps, _mm256_castsi256_pd, _mm256_castsi256_ps, _mm256_cmp_pd, _mm256_cmp_ps,
-    _mm256_cvtepi32_epi64, _mm256_cvtpd_epi32, _mm256_cvtps_epi32, _mm256_div_pd, _mm256_div_ps,
-    _mm256_loadu_pd, _mm256_loadu_ps, _mm256_max_pd, _mm256_max_ps, _mm256_min_pd, _mm256_min_ps,
-    _mm256_movemask_pd, _mm256_movemask_ps, _mm256_mul_pd, _mm256_mul_ps, _mm256_round_pd,
+    __m256, __m256d, __m256i, _mm256_add_epi32, _mm256_add_epi64, _mm256_add_pd, _mm256_add_ps,
+    _mm256_and_pd, _mm256_and_ps, _mm256_and_si256, _mm256_andnot_pd, _mm256_andnot_ps,
+    _mm256_blendv_epi8, _mm256_blendv_pd, _mm256_blendv_ps, _mm256_castps_si256,
+    _mm256_castsi256_pd, _mm256_castsi256_ps, _mm256_cmp_pd, _mm256_cmp_ps, _mm256_cmpeq_epi32,
+    _mm256_cmpgt_epi32, _mm256_cvtepi32_epi64, _mm256_cvtepi32_ps, _mm256_cvtpd_epi32,
+    _mm256_cvtps_epi32, _mm256_div_pd, _mm256_div_ps, _mm256_loadu_pd, _mm256_loadu_ps,
+    _mm256_loadu_si256, _mm256_max_pd, _mm256_max_ps, _mm256_min_pd, _mm256_min_ps,
+    _mm256_movemask_epi8, _mm256_movemask_pd, _mm256_movemask_ps, _mm256_mul_pd, _mm256_mul_ps,
+    _mm256_mullo_epi32, _mm256_or_si256, _mm256_permute2x128_si256, _mm256_round_pd,
     _mm256_round_ps, _mm256_set1_epi32, _mm256_set1_epi64x, _mm256_set1_pd, _mm256_set1_ps,
-    _mm256_slli_epi32, _mm256_slli_epi64, _mm256_sqrt_pd, _mm256_sqrt_ps, _mm256_storeu_pd,
-    _mm256_storeu_ps, _mm256_sub_pd, _mm256_sub_ps, _mm256_xor_pd, _mm256_xor_ps, _CMP_GT_OQ,
-    _CMP_LE_OQ, _CMP_LT_OQ, _MM_FROUND_NO_EXC, _MM_FROUND_TO_NEG_INF,
+    _mm256_sll_epi32, _mm256_slli_epi32, _mm256_slli_epi64, _mm256_sqrt_pd, _mm256_sqrt_ps,
+    _mm256_srl_epi32, _mm256_storeu_pd, _mm256_storeu_ps, _mm256_storeu_si256, _mm256_sub_epi32,
+    _mm256_sub_pd, _mm256_sub_ps, _mm256_unpackhi_epi32, _mm256_unpacklo_epi32, _mm256_xor_pd,
+    _mm256_xor_ps, _mm256_xor_si256, _mm_cvtsi32_si128, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
+    _MM_FROUND_NO_EXC, _MM_FROUND_TO_NEG_INF,
 };
-use core::ops::{Add, Div, Mul, Neg, Sub};
+use core::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Shl, Shr, Sub};
 
 /// Eight `f32` lanes in one AVX register.
 #[derive(Clone, Copy, Debug)]
@@ -214,6 +219,149 @@ impl F64Lane for F64x4 {
             let i = _mm256_cvtepi32_epi64(_mm256_cvtpd_epi32(n.0));
             let e = _mm256_add_epi64(i, _mm256_set1_epi64x(1023));
             F64x4(_mm256_castsi256_pd(_mm256_slli_epi64::<52>(e)))
+        }
+    }
+}
+
+/// Eight `u32` lanes in one AVX2 register: [`U32x8Lane`] for the pattern
+/// generators' run-time AVX2 copy (`vpmulld` for the wrapping multiply,
+/// unsigned comparisons as signed ones of the lanes with their top bit
+/// flipped).
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct U32x8(__m256i);
+
+macro_rules! ibinop {
+    ($tr:ident, $m:ident, $f:ident) => {
+        impl $tr for U32x8 {
+            type Output = U32x8;
+            #[inline(always)]
+            fn $m(self, o: U32x8) -> U32x8 {
+                // SAFETY: AVX2 code paths only (see `binop!`).
+                U32x8(unsafe { $f(self.0, o.0) })
+            }
+        }
+    };
+}
+
+ibinop!(Add, add, _mm256_add_epi32);
+ibinop!(Sub, sub, _mm256_sub_epi32);
+ibinop!(Mul, mul, _mm256_mullo_epi32);
+ibinop!(BitAnd, bitand, _mm256_and_si256);
+ibinop!(BitOr, bitor, _mm256_or_si256);
+ibinop!(BitXor, bitxor, _mm256_xor_si256);
+
+impl Shr<u32> for U32x8 {
+    type Output = U32x8;
+    #[inline(always)]
+    fn shr(self, n: u32) -> U32x8 {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        U32x8(unsafe { _mm256_srl_epi32(self.0, _mm_cvtsi32_si128(n as i32)) })
+    }
+}
+
+impl Shl<u32> for U32x8 {
+    type Output = U32x8;
+    #[inline(always)]
+    fn shl(self, n: u32) -> U32x8 {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        U32x8(unsafe { _mm256_sll_epi32(self.0, _mm_cvtsi32_si128(n as i32)) })
+    }
+}
+
+impl U32x8 {
+    /// The lanes with their top bit flipped, so that signed comparisons of
+    /// them order the unsigned values.
+    #[inline(always)]
+    fn biased(self) -> __m256i {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        unsafe { _mm256_xor_si256(self.0, _mm256_set1_epi32(i32::MIN)) }
+    }
+
+    /// All-ones lanes.
+    #[inline(always)]
+    fn ones() -> __m256i {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        unsafe { _mm256_set1_epi32(-1) }
+    }
+}
+
+impl U32x8Lane for U32x8 {
+    type F = F32x8;
+    #[inline(always)]
+    fn splat(v: u32) -> Self {
+        // SAFETY (every method): AVX2 code paths only (see `binop!`).
+        U32x8(unsafe { _mm256_set1_epi32(v as i32) })
+    }
+    #[inline(always)]
+    fn from_array(a: [u32; 8]) -> Self {
+        // SAFETY: `a` is 32 bytes; unaligned load.
+        U32x8(unsafe { _mm256_loadu_si256(a.as_ptr().cast()) })
+    }
+    #[inline(always)]
+    fn to_array(self) -> [u32; 8] {
+        let mut a = [0u32; 8];
+        // SAFETY: `a` is 32 bytes; unaligned store.
+        unsafe { _mm256_storeu_si256(a.as_mut_ptr().cast(), self.0) };
+        a
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> Self {
+        U32x8(unsafe { _mm256_cmpgt_epi32(o.biased(), self.biased()) })
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> Self {
+        U32x8(unsafe {
+            _mm256_xor_si256(_mm256_cmpgt_epi32(o.biased(), self.biased()), Self::ones())
+        })
+    }
+    #[inline(always)]
+    fn ne(self, o: Self) -> Self {
+        U32x8(unsafe { _mm256_xor_si256(_mm256_cmpeq_epi32(self.0, o.0), Self::ones()) })
+    }
+    #[inline(always)]
+    fn gt_i32(self, o: Self) -> Self {
+        U32x8(unsafe { _mm256_cmpgt_epi32(self.0, o.0) })
+    }
+    #[inline(always)]
+    fn lt_i32(self, o: Self) -> Self {
+        U32x8(unsafe { _mm256_cmpgt_epi32(o.0, self.0) })
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        unsafe { _mm256_movemask_epi8(self.0) != 0 }
+    }
+    #[inline(always)]
+    fn select(m: Self, t: Self, f: Self) -> Self {
+        U32x8(unsafe { _mm256_blendv_epi8(f.0, t.0, m.0) })
+    }
+    #[inline(always)]
+    fn to_f32(self) -> F32x8 {
+        F32x8(unsafe { _mm256_cvtepi32_ps(self.0) })
+    }
+    #[inline(always)]
+    fn to_f32_bits(self) -> F32x8 {
+        F32x8(unsafe { _mm256_castsi256_ps(self.0) })
+    }
+    #[inline(always)]
+    fn from_f32_bits(f: F32x8) -> Self {
+        U32x8(unsafe { _mm256_castps_si256(f.0) })
+    }
+    #[inline(always)]
+    fn from_f32_mask(m: F32x8) -> Self {
+        U32x8(unsafe { _mm256_castps_si256(m.0) })
+    }
+    #[inline(always)]
+    fn interleave(x: Self, y: Self) -> (Self, Self) {
+        // In-lane unpacks give x₀y₀x₁y₁|x₄y₄x₅y₅ and x₂y₂x₃y₃|x₆y₆x₇y₇; the
+        // two 128-bit permutes put the halves in order.
+        unsafe {
+            let lo = _mm256_unpacklo_epi32(x.0, y.0);
+            let hi = _mm256_unpackhi_epi32(x.0, y.0);
+            (
+                U32x8(_mm256_permute2x128_si256::<0x20>(lo, hi)),
+                U32x8(_mm256_permute2x128_si256::<0x31>(lo, hi)),
+            )
         }
     }
 }

@@ -19,7 +19,7 @@
 //!   Kernels write `a * b + c`; the exact products of the double-double
 //!   arithmetic use `num::two_prod`, which is exact in every build.
 
-use core::ops::{Add, BitAnd, BitOr, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
+use core::ops::{Add, BitAnd, BitOr, BitXor, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
 use wide::{f32x8, f64x4, i32x8, u16x16, u32x8};
 
 /// Width of the `f32` SIMD batch of the closed forms.
@@ -340,6 +340,208 @@ macro_rules! int_lane {
 }
 int_lane!(u32x8, 0, u32);
 int_lane!(u16x16, 16, u16);
+
+/// Eight `u32` lanes for the pattern generators' integer hot paths (the
+/// counter-based generator, the hashes, the Sobol′ products, the strata
+/// tests), at one instruction-set level: [`Wu32x8`] at the compiled level,
+/// [`crate::num::avx2::U32x8`] in the run-time AVX2 copy
+/// ([`crate::simd::Isa::U32`]).
+///
+/// Arithmetic wraps modulo `2³²`; shifts take counts below 32; comparisons
+/// return masks whose lanes are all ones or all zeros; [`U32x8Lane::any`] and
+/// [`U32x8Lane::select`] take such masks. Every operation is exact integer
+/// arithmetic, so both implementations give the same bits lane by lane
+/// (`tests/simd.rs`, and the test in [`crate::num::avx2`]).
+pub trait U32x8Lane:
+    Copy
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + BitAnd<Output = Self>
+    + BitOr<Output = Self>
+    + BitXor<Output = Self>
+    + Shr<u32, Output = Self>
+    + Shl<u32, Output = Self>
+{
+    /// The `f32` lanes of the same level.
+    type F: F32Lane;
+    /// `v` in every lane.
+    fn splat(v: u32) -> Self;
+    /// Lane `l` is `a[l]`.
+    fn from_array(a: [u32; 8]) -> Self;
+    /// The lanes.
+    fn to_array(self) -> [u32; 8];
+    /// Unsigned `self < o`.
+    fn lt(self, o: Self) -> Self;
+    /// Unsigned `self ≥ o`.
+    fn ge(self, o: Self) -> Self;
+    /// `self ≠ o`.
+    fn ne(self, o: Self) -> Self;
+    /// Signed (`i32`) `self > o`.
+    fn gt_i32(self, o: Self) -> Self;
+    /// Signed (`i32`) `self < o`.
+    fn lt_i32(self, o: Self) -> Self;
+    /// Whether any lane of the mask `self` is set.
+    fn any(self) -> bool;
+    /// `m ? t : f`, lane by lane.
+    fn select(m: Self, t: Self, f: Self) -> Self;
+    /// The lanes read as `i32` and converted to `f32` (round to nearest,
+    /// exact below `2²⁴` in magnitude).
+    fn to_f32(self) -> Self::F;
+    /// The lanes' bits as `f32` lanes.
+    fn to_f32_bits(self) -> Self::F;
+    /// The bits of `f32` lanes (also of their comparison masks).
+    fn from_f32_bits(f: Self::F) -> Self;
+    /// The bits of an `f32` comparison mask.
+    fn from_f32_mask(m: <Self::F as Lane>::Mask) -> Self;
+    /// `(x₀ y₀ x₁ y₁ x₂ y₂ x₃ y₃, x₄ y₄ … x₇ y₇)`: two points-major vectors
+    /// of 2D points from the two coordinate vectors.
+    fn interleave(x: Self, y: Self) -> (Self, Self);
+}
+
+/// The compiled level's [`U32x8Lane`]: `wide`'s `u32x8`, with a multiply that
+/// stays in vector registers on baseline SSE2.
+///
+/// Why a wrapper: SSE2 has no 32-bit lane multiply (`pmulld` is SSE4.1), and
+/// `wide` then multiplies through a scalar array, four times slower than its
+/// other operations. This type multiplies with two `pmuludq` (even and odd
+/// lanes' 64-bit products) and keeps the low halves, which is the same
+/// wrapping product. Everything else is `wide`'s.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(transparent)]
+pub struct Wu32x8(pub u32x8);
+
+macro_rules! wu32_op {
+    ($tr:ident, $m:ident) => {
+        impl $tr for Wu32x8 {
+            type Output = Wu32x8;
+            #[inline(always)]
+            fn $m(self, o: Wu32x8) -> Wu32x8 {
+                Wu32x8($tr::$m(self.0, o.0))
+            }
+        }
+    };
+}
+wu32_op!(Add, add);
+wu32_op!(Sub, sub);
+wu32_op!(BitAnd, bitand);
+wu32_op!(BitOr, bitor);
+wu32_op!(BitXor, bitxor);
+
+impl Shr<u32> for Wu32x8 {
+    type Output = Wu32x8;
+    #[inline(always)]
+    fn shr(self, n: u32) -> Wu32x8 {
+        Wu32x8(self.0 >> n)
+    }
+}
+
+impl Shl<u32> for Wu32x8 {
+    type Output = Wu32x8;
+    #[inline(always)]
+    fn shl(self, n: u32) -> Wu32x8 {
+        Wu32x8(self.0 << n)
+    }
+}
+
+impl Mul for Wu32x8 {
+    type Output = Wu32x8;
+    #[inline(always)]
+    fn mul(self, o: Wu32x8) -> Wu32x8 {
+        #[cfg(all(target_arch = "x86_64", not(target_feature = "sse4.1")))]
+        {
+            use safe_arch::{
+                m128i, mul_widen_u32_odd_m128i, shr_imm_u64_m128i, shuffle_ai_f32_all_m128i,
+                unpack_low_i32_m128i,
+            };
+            /// The wrapping product of four lanes: `pmuludq` of the even
+            /// lanes and of the odd ones (shifted down), low halves kept.
+            #[inline(always)]
+            fn mul4(a: m128i, b: m128i) -> m128i {
+                let even = mul_widen_u32_odd_m128i(a, b);
+                let odd =
+                    mul_widen_u32_odd_m128i(shr_imm_u64_m128i::<32>(a), shr_imm_u64_m128i::<32>(b));
+                unpack_low_i32_m128i(
+                    shuffle_ai_f32_all_m128i::<0b10_00_10_00>(even),
+                    shuffle_ai_f32_all_m128i::<0b10_00_10_00>(odd),
+                )
+            }
+            let a: [m128i; 2] = bytemuck::cast(self.0);
+            let b: [m128i; 2] = bytemuck::cast(o.0);
+            Wu32x8(bytemuck::cast([mul4(a[0], b[0]), mul4(a[1], b[1])]))
+        }
+        #[cfg(not(all(target_arch = "x86_64", not(target_feature = "sse4.1"))))]
+        {
+            Wu32x8(self.0 * o.0)
+        }
+    }
+}
+
+impl U32x8Lane for Wu32x8 {
+    type F = f32x8;
+    #[inline(always)]
+    fn splat(v: u32) -> Self {
+        Wu32x8(u32x8::splat(v))
+    }
+    #[inline(always)]
+    fn from_array(a: [u32; 8]) -> Self {
+        Wu32x8(u32x8::new(a))
+    }
+    #[inline(always)]
+    fn to_array(self) -> [u32; 8] {
+        self.0.to_array()
+    }
+    #[inline(always)]
+    fn lt(self, o: Self) -> Self {
+        Wu32x8(self.0.simd_lt(o.0))
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> Self {
+        Wu32x8(self.0.simd_ge(o.0))
+    }
+    #[inline(always)]
+    fn ne(self, o: Self) -> Self {
+        Wu32x8(self.0.simd_ne(o.0))
+    }
+    #[inline(always)]
+    fn gt_i32(self, o: Self) -> Self {
+        let (a, b): (i32x8, i32x8) = (bytemuck::cast(self.0), bytemuck::cast(o.0));
+        Wu32x8(bytemuck::cast(a.simd_gt(b)))
+    }
+    #[inline(always)]
+    fn lt_i32(self, o: Self) -> Self {
+        let (a, b): (i32x8, i32x8) = (bytemuck::cast(self.0), bytemuck::cast(o.0));
+        Wu32x8(bytemuck::cast(a.simd_lt(b)))
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        self.0.any()
+    }
+    #[inline(always)]
+    fn select(m: Self, t: Self, f: Self) -> Self {
+        Wu32x8(m.0.select(t.0, f.0))
+    }
+    #[inline(always)]
+    fn to_f32(self) -> f32x8 {
+        f32x8::from_i32x8(bytemuck::cast(self.0))
+    }
+    #[inline(always)]
+    fn to_f32_bits(self) -> f32x8 {
+        bytemuck::cast(self.0)
+    }
+    #[inline(always)]
+    fn from_f32_bits(f: f32x8) -> Self {
+        Wu32x8(bytemuck::cast(f))
+    }
+    #[inline(always)]
+    fn from_f32_mask(m: f32x8) -> Self {
+        Wu32x8(bytemuck::cast(m))
+    }
+    #[inline(always)]
+    fn interleave(x: Self, y: Self) -> (Self, Self) {
+        (Wu32x8(x.0.unpack_lo(y.0)), Wu32x8(x.0.unpack_hi(y.0)))
+    }
+}
 
 #[cfg(test)]
 mod tests {

@@ -524,7 +524,7 @@ mod imp {
         }
 
         #[inline(always)]
-        fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        fn gen_simd<I: crate::simd::Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
             let r = self.generate(seed);
             let first = first as usize;
             for i in 0..sink.len() {
@@ -533,7 +533,7 @@ mod imp {
         }
 
         fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-            self.gen_simd(seed, first, sink);
+            self.gen_simd::<crate::simd::Wide, S>(seed, first, sink);
         }
     }
 

@@ -814,12 +814,13 @@ impl<const D: usize> Generate<D> for Halton<D> {
     }
 
     #[inline(always)]
-    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    fn gen_simd<I: crate::simd::Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        // Written over `wide`'s types: every level runs this.
         let keys: [DimKeys; D] = core::array::from_fn(|j| DimKeys::new(seed, j as u32));
         let n = sink.len();
         let leads: [Lead; D] = core::array::from_fn(|j| Lead::new(&BASES[j], &keys[j], n));
         let mut start = first;
-        drive8(sink, || {
+        drive8::<D, S, crate::num::lane::Wu32x8>(sink, || {
             // Lanes past 2³² − 1 are past `N` and discarded.
             let last = (start + 7).min(u64::from(u32::MAX)) as u32;
             let s0 = start as u32;

@@ -6,8 +6,9 @@ use super::{
     MAX_STRATA,
 };
 use crate::error::PatternError;
-use crate::rng::{CounterX8, Seed};
-use wide::{f32x8, u32x8};
+use crate::num::lane::{F32Lane, Lane, U32x8Lane};
+use crate::rng::{CounterLanes, Seed};
+use crate::simd::Isa;
 
 /// Jittered sampling: the unit cube is cut into `m₁×…×m_D` equal cells and each
 /// cell gets one uniform point, `x_j = (c_j + u_j)/m_j`.
@@ -101,14 +102,14 @@ impl<const D: usize> Jittered<D> {
     /// `D` vectors of consecutive stream outputs; vector `v`, lane `l` holds
     /// axis `(8v + l) mod D` of point `⌊(8v + l)/D⌋` of the block.
     #[inline(always)]
-    fn gen_flat(&self, seed: Seed, first: u64, flat: &mut [f32]) {
+    fn gen_flat<I: Isa>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
         let key = seed.counter(PURPOSE);
         let axis = |v: usize, l: usize| (8 * v + l) % D;
         let axes: [Strata; D] = self.strata.map(Strata::new);
-        let sx: [StrataX8; D] =
+        let sx: [StrataX8<I::U32>; D] =
             core::array::from_fn(|v| StrataX8::new(core::array::from_fn(|l| axes[axis(v, l)])));
-        let step: [f32x8; D] = core::array::from_fn(|v| {
-            f32x8::new(core::array::from_fn(|l| {
+        let step: [I::F32; D] = core::array::from_fn(|v| {
+            lanes8(core::array::from_fn(|l| {
                 if axis(v, l) == 0 {
                     8.0
                 } else {
@@ -118,10 +119,10 @@ impl<const D: usize> Jittered<D> {
         });
         let m0 = self.strata[0];
         let mut cell = self.cell_of(first);
-        let mut cf = Self::cell_lanes(&cell);
+        let mut cf = Self::cell_lanes::<I::F32>(&cell);
         let mut row_left = (m0 - cell[0]) / 8;
         let blocks = flat.len() / (8 * D);
-        let mut lanes = key.lanes(first * D as u64, 1);
+        let mut lanes = key.lanes_in::<I::U32>(first * D as u64, 1);
         lanes.chunks::<D>(blocks, |b, bits| {
             put_flat(&sx, &cf, &bits, &mut flat[8 * D * b..8 * D * (b + 1)]);
             row_left -= 1;
@@ -130,7 +131,7 @@ impl<const D: usize> Jittered<D> {
                 row_left = m0 / 8;
             } else {
                 for v in 0..D {
-                    cf[v] += step[v];
+                    cf[v] = cf[v] + step[v];
                 }
             }
         });
@@ -141,9 +142,9 @@ impl<const D: usize> Jittered<D> {
 
     /// The cells of a flat block's lanes (see [`Jittered::gen_flat`]) whose
     /// first point is in `cell`, exact in `f32` (every count is ≤ 2²⁴).
-    fn cell_lanes(cell: &[u32; D]) -> [f32x8; D] {
+    fn cell_lanes<F: F32Lane>(cell: &[u32; D]) -> [F; D] {
         core::array::from_fn(|v| {
-            f32x8::new(core::array::from_fn(|l| {
+            lanes8(core::array::from_fn(|l| {
                 let (a, q) = ((8 * v + l) % D, ((8 * v + l) / D) as u32);
                 (cell[a] + if a == 0 { q } else { 0 }) as f32
             }))
@@ -155,7 +156,7 @@ impl<const D: usize> Jittered<D> {
     /// code stays small enough to inline.
     #[cold]
     #[inline(never)]
-    fn next_row(&self, cell: &mut [u32; D], cf: &mut [f32x8; D]) {
+    fn next_row<F: F32Lane>(&self, cell: &mut [u32; D], cf: &mut [F; D]) {
         cell[0] = self.strata[0] - 8;
         for _ in 0..8 {
             odometer_step(cell, &self.strata);
@@ -173,30 +174,36 @@ impl<const D: usize> Jittered<D> {
     }
 }
 
+/// `f32` lanes from eight values.
+#[inline(always)]
+fn lanes8<F: F32Lane>(a: [f32; 8]) -> F {
+    F::load(&a)
+}
+
 impl<const D: usize> Generate<D> for Jittered<D> {
     fn n(&self) -> u64 {
         self.n
     }
 
     #[inline(always)]
-    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    fn gen_simd<I: Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let d = D as u64;
         if let Some(flat) = sink.flat() {
             if self.strata[0].is_multiple_of(8) && first.is_multiple_of(8) {
-                self.gen_flat(seed, first, flat);
+                self.gen_flat::<I>(seed, first, flat);
                 return;
             }
         }
-        let mut lanes: [CounterX8; D] =
-            core::array::from_fn(|j| key.lanes(first * d + j as u64, d));
+        let mut lanes: [CounterLanes<I::U32>; D] =
+            core::array::from_fn(|j| key.lanes_in(first * d + j as u64, d));
         let axes: [Strata; D] = self.strata.map(Strata::new);
-        let vm: [u32x8; D] = self.strata.map(u32x8::splat);
+        let vm: [I::U32; D] = self.strata.map(I::U32::splat);
         // Per-lane cell counters for points first + l, advanced by 8 per block.
-        let mut cell: [u32x8; D] = lanes_of(|l| self.cell_of(first + l as u64));
-        drive8(sink, || {
-            let out = build(f32x8::ZERO, |j| {
-                axes[j].point_x8(cell[j], lanes[j].next_u32x8())
+        let mut cell: [I::U32; D] = lanes_of(|l| self.cell_of(first + l as u64));
+        drive8::<D, S, I::U32>(sink, || {
+            let out = build(I::F32::splat(0.0), |j| {
+                axes[j].point_x8(cell[j], lanes[j].next())
             });
             advance8(&mut cell, &vm);
             out

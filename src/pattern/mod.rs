@@ -78,9 +78,9 @@ pub use sobol::{Sobol, SOBOL_DIMENSIONS};
 pub use zsobol::{ZSobol, ZSobolPixel, ZSOBOL_MAX_INDEX_BITS};
 
 use crate::error::PatternError;
+use crate::num::lane::{F32Lane, Lane, U32x8Lane};
 use crate::num::to_unit_f32;
 use crate::rng::Seed;
-use wide::{f32x8, u32x8};
 
 pub use crate::num::torus::ONE_MINUS_EPSILON;
 
@@ -203,7 +203,7 @@ pub(crate) fn check_range(n: u64, first: usize, len: usize) -> Result<(), Patter
 }
 
 pub(crate) mod sealed {
-    use super::f32x8;
+    use crate::num::lane::U32x8Lane;
     use crate::rng::Seed;
 
     /// Where generated points go: array-of-structs or structure-of-arrays.
@@ -212,8 +212,9 @@ pub(crate) mod sealed {
         fn len(&self) -> usize;
         /// Point `i`.
         fn put(&mut self, i: usize, p: [f32; D]);
-        /// Points `i .. i + 8`, coordinate `j` of point `i + l` in lane `l` of `v[j]`.
-        fn put8(&mut self, i: usize, v: [f32x8; D]);
+        /// Points `i .. i + 8`, coordinate `j` of point `i + l` in lane `l` of
+        /// `v[j]`, in the `f32` lanes of the level whose integer lanes are `U`.
+        fn put8<U: U32x8Lane>(&mut self, i: usize, v: [U::F; D]);
         /// The output as one flat slice of `len()·D` coordinates, point-major
         /// (coordinate `j` of point `i` at `i·D + j`), if the sink has that layout.
         /// Generators whose values are a function of the flat index write it
@@ -226,7 +227,9 @@ pub(crate) mod sealed {
     /// The generator behind a pattern: `count` points starting at `first` into `sink`.
     pub trait Generate<const D: usize> {
         fn n(&self) -> u64;
-        fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S);
+        /// The SIMD path in the lane types of the level `I` (generators not
+        /// yet written over them use `wide`'s types whatever `I` is).
+        fn gen_simd<I: crate::simd::Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S);
         fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S);
     }
 }
@@ -245,16 +248,16 @@ impl<const D: usize> Sink<D> for Aos<'_, D> {
         self.0[i] = p;
     }
     #[inline(always)]
-    fn put8(&mut self, i: usize, v: [f32x8; D]) {
+    fn put8<U: U32x8Lane>(&mut self, i: usize, v: [U::F; D]) {
         if D == 2 {
             // Two interleaving unpacks (x₀ y₀ x₁ y₁ …), two contiguous stores.
-            let (x, y): (u32x8, u32x8) = (bytemuck::cast(v[0]), bytemuck::cast(v[1]));
-            let out = [x.unpack_lo(y), x.unpack_hi(y)];
+            let (a, b) = U::interleave(U::from_f32_bits(v[0]), U::from_f32_bits(v[1]));
             let dst = self.0[i..i + 8].as_flattened_mut();
-            dst.copy_from_slice(bytemuck::cast_slice::<u32x8, f32>(&out));
+            a.to_f32_bits().store(&mut dst[..8]);
+            b.to_f32_bits().store(&mut dst[8..]);
             return;
         }
-        let a: [[f32; 8]; D] = build([0.0; 8], |j| v[j].to_array());
+        let a: [[f32; 8]; D] = build([0.0; 8], |j| to_array8(v[j]));
         let dst = &mut self.0[i..i + 8];
         for (l, p) in dst.iter_mut().enumerate() {
             *p = build(0.0, |j| a[j][l]);
@@ -280,9 +283,9 @@ impl<const D: usize> Sink<D> for Soa<'_, D> {
         }
     }
     #[inline(always)]
-    fn put8(&mut self, i: usize, v: [f32x8; D]) {
+    fn put8<U: U32x8Lane>(&mut self, i: usize, v: [U::F; D]) {
         for j in 0..D {
-            self.0[j][i..i + 8].copy_from_slice(&v[j].to_array());
+            v[j].store(&mut self.0[j][i..i + 8]);
         }
     }
 }
@@ -293,24 +296,24 @@ impl<const D: usize> Sink<D> for Soa<'_, D> {
 /// by point. `block4` must therefore accept running past the end (its lanes past
 /// `N` are discarded).
 #[inline(always)]
-pub(crate) fn drive32<const D: usize, S: Sink<D>>(
+pub(crate) fn drive32<const D: usize, S: Sink<D>, U: U32x8Lane>(
     sink: &mut S,
-    mut block4: impl FnMut() -> [[f32x8; D]; 4],
+    mut block4: impl FnMut() -> [[U::F; D]; 4],
 ) {
     let n = sink.len();
     let mut i = 0;
     while i + 32 <= n {
         let v = block4();
-        sink.put8(i, v[0]);
-        sink.put8(i + 8, v[1]);
-        sink.put8(i + 16, v[2]);
-        sink.put8(i + 24, v[3]);
+        sink.put8::<U>(i, v[0]);
+        sink.put8::<U>(i + 8, v[1]);
+        sink.put8::<U>(i + 16, v[2]);
+        sink.put8::<U>(i + 24, v[3]);
         i += 32;
     }
     if i < n {
         let v = block4();
         for (b, vb) in v.into_iter().enumerate() {
-            let a: [[f32; 8]; D] = build([0.0; 8], |j| vb[j].to_array());
+            let a: [[f32; 8]; D] = build([0.0; 8], |j| to_array8(vb[j]));
             for l in 0..8 {
                 let k = i + 8 * b + l;
                 if k < n {
@@ -324,23 +327,31 @@ pub(crate) fn drive32<const D: usize, S: Sink<D>>(
 /// Drives a block generator: calls `block(b)` for consecutive blocks of 8 points and
 /// writes full blocks with `put8`, the last partial block point by point.
 #[inline(always)]
-pub(crate) fn drive8<const D: usize, S: Sink<D>>(
+pub(crate) fn drive8<const D: usize, S: Sink<D>, U: U32x8Lane>(
     sink: &mut S,
-    mut block: impl FnMut() -> [f32x8; D],
+    mut block: impl FnMut() -> [U::F; D],
 ) {
     let n = sink.len();
     let mut i = 0;
     while i + 8 <= n {
-        sink.put8(i, block());
+        sink.put8::<U>(i, block());
         i += 8;
     }
     if i < n {
         let v = block();
-        let a: [[f32; 8]; D] = build([0.0; 8], |j| v[j].to_array());
+        let a: [[f32; 8]; D] = build([0.0; 8], |j| to_array8(v[j]));
         for l in 0..n - i {
             sink.put(i + l, build(0.0, |j| a[j][l]));
         }
     }
+}
+
+/// The eight lanes of an `f32` lane vector.
+#[inline(always)]
+pub(crate) fn to_array8<F: crate::num::lane::F32Lane>(v: F) -> [f32; 8] {
+    let mut a = [0.0; 8];
+    v.store(&mut a);
+    a
 }
 
 /// A pattern fill as one dispatched call ([`crate::simd::dispatch`]).
@@ -355,10 +366,7 @@ impl<const D: usize, G: Generate<D>, S: Sink<D>> crate::simd::Kernel for Fill<'_
     type Output = ();
     #[inline(always)]
     fn run<I: crate::simd::Isa>(self) {
-        // The generators are written over `wide`'s types directly, so the
-        // AVX2 copy still computes in 128-bit halves (measured no faster
-        // than the compiled level; README, "Build flags").
-        self.gen.gen_simd(self.seed, self.first, self.sink);
+        self.gen.gen_simd::<I, S>(self.seed, self.first, self.sink);
     }
 }
 
@@ -527,9 +535,8 @@ pub(crate) fn unit_f32(bits: u32) -> f32 {
 
 /// Lane-wise [`unit_f32`].
 #[inline(always)]
-pub(crate) fn unit_f32x8(bits: wide::u32x8) -> f32x8 {
-    let i: wide::i32x8 = bytemuck::cast(bits >> 8);
-    f32x8::from_i32x8(i) * f32x8::splat(1.0 / 16_777_216.0)
+pub(crate) fn unit_f32x8<U: U32x8Lane>(bits: U) -> U::F {
+    (bits >> 8).to_f32() * <U::F as Lane>::splat(1.0 / 16_777_216.0)
 }
 
 /// Top 53 bits of `bits` as an `f64` in `[0, 1)`.
@@ -628,44 +635,51 @@ impl Strata {
 
     /// Lane-wise [`Strata::point`].
     #[inline(always)]
-    pub(crate) fn point_x8(&self, cell: wide::u32x8, bits: wide::u32x8) -> f32x8 {
-        let c = f32x8::from_i32x8(bytemuck::cast(cell));
-        StrataX8::new([*self; 8]).point_x8(c, bits)
+    pub(crate) fn point_x8<U: U32x8Lane>(&self, cell: U, bits: U) -> U::F {
+        StrataX8::<U>::new([*self; 8]).point_x8(cell.to_f32(), bits)
     }
 }
 
 /// [`Strata`] with its own axis in every lane: lane `l` of
 /// [`StrataX8::point_x8`] is [`Strata::point`] of `lanes[l]`, bit for bit. A
 /// point-major flat buffer (`x₀ y₀ x₁ y₁ …`) mixes axes within one vector.
+/// In the lanes of the level whose integer lanes are `U`.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct StrataX8 {
-    m: f32x8,
-    m_hi: f32x8,
-    m_lo: f32x8,
-    inv32: f32x8,
-    lo: wide::i32x8,
-    hi: wide::i32x8,
+pub(crate) struct StrataX8<U: U32x8Lane> {
+    m: U::F,
+    m_hi: U::F,
+    m_lo: U::F,
+    inv32: U::F,
+    /// `Strata::lo` and `Strata::hi`, as `i32` bits.
+    lo: U,
+    hi: U,
     /// Every lane's `lo` is 0 (`U ≥ 0` always holds).
     one_sided: bool,
 }
 
-impl StrataX8 {
+/// `f32` lanes from eight values.
+#[inline(always)]
+fn f32_lanes<F: F32Lane>(a: [f32; 8]) -> F {
+    <F as Lane>::load(&a)
+}
+
+impl<U: U32x8Lane> StrataX8<U> {
     #[inline(always)]
     pub(crate) fn new(lanes: [Strata; 8]) -> Self {
         Self {
-            m: f32x8::new(lanes.map(|s| s.m)),
-            m_hi: f32x8::new(lanes.map(|s| s.m_hi)),
-            m_lo: f32x8::new(lanes.map(|s| s.m_lo)),
-            inv32: f32x8::new(lanes.map(|s| s.inv32)),
-            lo: wide::i32x8::new(lanes.map(|s| s.lo)),
-            hi: wide::i32x8::new(lanes.map(|s| s.hi)),
+            m: f32_lanes(lanes.map(|s| s.m)),
+            m_hi: f32_lanes(lanes.map(|s| s.m_hi)),
+            m_lo: f32_lanes(lanes.map(|s| s.m_lo)),
+            inv32: f32_lanes(lanes.map(|s| s.inv32)),
+            lo: U::from_array(lanes.map(|s| s.lo as u32)),
+            hi: U::from_array(lanes.map(|s| s.hi as u32)),
             one_sided: lanes.iter().all(|s| s.lo == 0),
         }
     }
 
     /// Lane-wise [`Strata::point`], the cell given as an (exact) `f32`.
     #[inline(always)]
-    pub(crate) fn point_x8(&self, c: f32x8, bits: wide::u32x8) -> f32x8 {
+    pub(crate) fn point_x8(&self, c: U::F, bits: U) -> U::F {
         let (v, slow) = self.fast_x8(c, bits);
         if !slow.any() {
             return v;
@@ -676,15 +690,15 @@ impl StrataX8 {
     /// The fast value of [`StrataX8::point_x8`] and the mask of lanes that
     /// need [`StrataX8::fix_x8`] (for callers that test several vectors at once).
     #[inline(always)]
-    pub(crate) fn fast_x8(&self, c: f32x8, bits: wide::u32x8) -> (f32x8, wide::i32x8) {
-        let u: wide::i32x8 = bytemuck::cast(bits >> 8);
-        let uf = f32x8::from_i32x8(u) * f32x8::splat(1.0 / 16_777_216.0);
+    pub(crate) fn fast_x8(&self, c: U::F, bits: U) -> (U::F, U) {
+        let u = bits >> 8;
+        let uf = u.to_f32() * <U::F as Lane>::splat(1.0 / 16_777_216.0);
         let v = (c + uf) * self.inv32;
         // Power-of-two strata have lo = 0 in every lane: one compare.
         let slow = if self.one_sided {
-            u.simd_gt(self.hi)
+            u.gt_i32(self.hi)
         } else {
-            u.simd_lt(self.lo) | u.simd_gt(self.hi)
+            u.lt_i32(self.lo) | u.gt_i32(self.hi)
         };
         (v, slow)
     }
@@ -692,23 +706,23 @@ impl StrataX8 {
     /// The exact test and the one-ulp moves of [`Strata::point`], in lanes (a
     /// lane that is inside stays put, so the fast lanes are unchanged).
     #[inline(never)]
-    pub(crate) fn fix_x8(&self, mut v: f32x8, c: f32x8) -> f32x8 {
-        let one = wide::i32x8::splat(1);
+    pub(crate) fn fix_x8(&self, mut v: U::F, c: U::F) -> U::F {
+        let one = U::splat(1);
+        let zero = <U::F as Lane>::splat(0.0);
         loop {
             let p = v * self.m;
-            let t = v * f32x8::splat(SPLIT_F32);
+            let t = v * <U::F as Lane>::splat(SPLIT_F32);
             let vh = t - (t - v);
             let vl = v - vh;
             let e = ((vh * self.m_hi - p) + vh * self.m_lo + vl * self.m_hi) + vl * self.m_lo;
-            let below: wide::i32x8 = bytemuck::cast(((p - c) + e).simd_lt(f32x8::ZERO));
-            let above: wide::i32x8 =
-                bytemuck::cast(((p - (c + f32x8::ONE)) + e).simd_ge(f32x8::ZERO));
+            let below = U::from_f32_mask(((p - c) + e).lt(zero));
+            let above = U::from_f32_mask(zero.le((p - (c + <U::F as Lane>::splat(1.0))) + e));
             if !(below | above).any() {
                 return v;
             }
-            // below/above are all-ones (−1) masks: +1 ulp where below, −1 where above.
-            let bits: wide::i32x8 = bytemuck::cast(v);
-            v = bytemuck::cast(bits + (below & one) - (above & one));
+            // below/above are all-ones masks: +1 ulp where below, −1 where above.
+            let bits = U::from_f32_bits(v);
+            v = (bits + (below & one) - (above & one)).to_f32_bits();
         }
     }
 }
@@ -718,17 +732,17 @@ impl StrataX8 {
 /// values). The exact fix runs out of line, and only when a lane needs it
 /// (lanes already inside their cell are left as they are).
 #[inline(always)]
-pub(crate) fn put_flat<const K: usize>(
-    sx: &[StrataX8; K],
-    cells: &[f32x8; K],
-    bits: &[wide::u32x8; K],
+pub(crate) fn put_flat<U: U32x8Lane, const K: usize>(
+    sx: &[StrataX8<U>; K],
+    cells: &[U::F; K],
+    bits: &[U; K],
     out: &mut [f32],
 ) {
-    let mut slow = wide::i32x8::ZERO;
+    let mut slow = U::splat(0);
     for v in 0..K {
         let (x, sv) = sx[v].fast_x8(cells[v], bits[v]);
-        out[8 * v..8 * v + 8].copy_from_slice(&x.to_array());
-        slow |= sv;
+        x.store(&mut out[8 * v..8 * v + 8]);
+        slow = slow | sv;
     }
     if slow.any() {
         fix_flat(sx, cells, out);
@@ -737,31 +751,36 @@ pub(crate) fn put_flat<const K: usize>(
 
 #[cold]
 #[inline(never)]
-fn fix_flat<const K: usize>(sx: &[StrataX8; K], cells: &[f32x8; K], out: &mut [f32]) {
+fn fix_flat<U: U32x8Lane, const K: usize>(
+    sx: &[StrataX8<U>; K],
+    cells: &[U::F; K],
+    out: &mut [f32],
+) {
     for (v, o) in out.chunks_exact_mut(8).enumerate() {
-        let x = f32x8::new(o.try_into().unwrap_or([0.0; 8]));
-        o.copy_from_slice(&sx[v].fix_x8(x, cells[v]).to_array());
+        let x = <U::F as Lane>::load(o);
+        sx[v].fix_x8(x, cells[v]).store(o);
     }
 }
 
 /// Adds 8 to per-lane mixed-radix counters `cell` (digit `j` in `[0, m_j)`, digit 0
 /// fastest), carrying between digits; the top digit wraps.
 #[inline(always)]
-pub(crate) fn advance8<const D: usize>(cell: &mut [wide::u32x8; D], m: &[wide::u32x8; D]) {
-    let mut carry = wide::u32x8::splat(8);
+pub(crate) fn advance8<U: U32x8Lane, const D: usize>(cell: &mut [U; D], m: &[U; D]) {
+    let mut carry = U::splat(8);
+    let zero = U::splat(0);
     for j in 0..D {
         let mut c = cell[j] + carry;
-        carry = wide::u32x8::ZERO;
+        carry = zero;
         loop {
-            let over = c.simd_ge(m[j]);
+            let over = c.ge(m[j]);
             if !over.any() {
                 break;
             }
-            c -= over & m[j];
-            carry -= over; // `over` is all ones (−1) where a digit wrapped
+            c = c - (over & m[j]);
+            carry = carry - over; // `over` is all ones (−1) where a digit wrapped
         }
         cell[j] = c;
-        if !carry.simd_ne(wide::u32x8::ZERO).any() {
+        if !carry.ne(zero).any() {
             break;
         }
     }
@@ -798,9 +817,9 @@ pub(crate) fn build<T: Copy, const D: usize>(init: T, mut f: impl FnMut(usize) -
 
 /// Transposes 8 per-point arrays into `D` lane vectors.
 #[inline(always)]
-pub(crate) fn lanes_of<const D: usize>(f: impl Fn(usize) -> [u32; D]) -> [wide::u32x8; D] {
+pub(crate) fn lanes_of<U: U32x8Lane, const D: usize>(f: impl Fn(usize) -> [u32; D]) -> [U; D] {
     let pts: [[u32; D]; 8] = core::array::from_fn(f);
-    core::array::from_fn(|j| wide::u32x8::new(core::array::from_fn(|l| pts[l][j])))
+    core::array::from_fn(|j| U::from_array(core::array::from_fn(|l| pts[l][j])))
 }
 
 /// Largest per-axis stratum count [`Strata`] handles exactly (`f32` strata of
@@ -822,6 +841,7 @@ pub(crate) fn assert_sequence_dim(name: &str, dim: u32, max: u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::num::lane::Wu32x8;
 
     #[test]
     fn stratum_membership_at_the_edges() {
@@ -884,7 +904,10 @@ mod tests {
             let cells: [u32; 8] = core::array::from_fn(|_| next() % m);
             let bits: [u32; 8] = core::array::from_fn(|_| next());
             let v8 = s
-                .point_x8(wide::u32x8::new(cells), wide::u32x8::new(bits))
+                .point_x8(
+                    Wu32x8(wide::u32x8::new(cells)),
+                    Wu32x8(wide::u32x8::new(bits)),
+                )
                 .to_array();
             for l in 0..8 {
                 let v = s.point(cells[l], bits[l]);
@@ -954,7 +977,10 @@ mod tests {
                     let mut b8 = [0u32; 8];
                     b8[..chunk.len()].copy_from_slice(chunk);
                     let v8 = s
-                        .point_x8(wide::u32x8::splat(cell), wide::u32x8::new(b8))
+                        .point_x8(
+                            Wu32x8(wide::u32x8::splat(cell)),
+                            Wu32x8(wide::u32x8::new(b8)),
+                        )
                         .to_array();
                     for l in 0..8 {
                         assert_eq!(v8[l].to_bits(), s.point(cell, b8[l]).to_bits());

@@ -28,6 +28,7 @@ use crate::hash::{
     apply16, apply_with, in_sixteen_bits, key_word_x8, narrow_words_x8, permute, rotation_x8,
     widen, PermuteX8, Shape, KEY_WORDS, ROTATION, SMALL_DOMAIN,
 };
+use crate::num::lane::Wu32x8;
 use crate::rng::{Counter, Seed};
 use wide::{u16x16, u32x8};
 
@@ -173,9 +174,11 @@ impl Grid {
                     let (px, py) = (px.map(widen), py.map(widen));
                     for v in 0..g {
                         let vi = u32x8::splat(i0 + 8 * v as u32) + lane;
-                        let x = axis.point_x8(vi * vn + px[v / 2][v % 2], bx.next_u32x8());
-                        let y = axis.point_x8(vrow + py[v / 2][v % 2], by.next_u32x8());
-                        sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                        let x = axis
+                            .point_x8(Wu32x8(vi * vn + px[v / 2][v % 2]), Wu32x8(bx.next_u32x8()));
+                        let y =
+                            axis.point_x8(Wu32x8(vrow + py[v / 2][v % 2]), Wu32x8(by.next_u32x8()));
+                        sink.put8::<Wu32x8>((k0 - first) as usize + 8 * (b + v), [x, y]);
                     }
                     b += g;
                 }
@@ -316,9 +319,9 @@ impl Grid {
                         (px, py)
                     };
                     for v in 0..g {
-                        let x = axis.point_x8(vis[v] * vn + px[v], bx.next_u32x8());
-                        let y = axis.point_x8(vrow + py[v], by.next_u32x8());
-                        sink.put8((k0 - first) as usize + 8 * (b + v), [x, y]);
+                        let x = axis.point_x8(Wu32x8(vis[v] * vn + px[v]), Wu32x8(bx.next_u32x8()));
+                        let y = axis.point_x8(Wu32x8(vrow + py[v]), Wu32x8(by.next_u32x8()));
+                        sink.put8::<Wu32x8>((k0 - first) as usize + 8 * (b + v), [x, y]);
                     }
                     b += g;
                     vi += u32x8::splat(8 * g as u32);
@@ -505,7 +508,13 @@ macro_rules! grid_pattern {
                 self.grid.n()
             }
             #[inline(always)]
-            fn gen_simd<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {
+            fn gen_simd<I: crate::simd::Isa, S: Sink<2>>(
+                &self,
+                seed: Seed,
+                first: u64,
+                sink: &mut S,
+            ) {
+                // Written over `wide`'s types: every level runs this.
                 self.grid.gen_simd(seed, first, sink)
             }
             fn gen_scalar<S: Sink<2>>(&self, seed: Seed, first: u64, sink: &mut S) {

@@ -4,7 +4,9 @@ use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive32, put_flat, Aos, Strata, StrataX8, MAX_STRATA};
 use crate::error::PatternError;
 use crate::hash::{apply16, in_sixteen_bits, permute, widen, PermuteX16, PermuteX8, Shape};
+use crate::num::lane::Wu32x8;
 use crate::rng::{CounterX8, Seed};
+use crate::simd::Isa;
 use wide::{f32x8, u16x16, u32x8};
 
 /// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
@@ -55,12 +57,13 @@ impl<const D: usize> NRooks<D> {
         flat: &mut [f32],
         mut cells: impl FnMut(u64) -> [f32x8; K],
     ) {
-        let sx = [StrataX8::new([Strata::new(self.n); 8]); K];
+        let sx = [StrataX8::<Wu32x8>::new([Strata::new(self.n); 8]); K];
         let per_chunk = 8 * K / D; // points
         let chunks = flat.len() / (8 * K);
         let mut lanes = seed.counter(PURPOSE).lanes(first * D as u64, 1);
         lanes.chunks::<K>(chunks, |b, bits| {
             let c = cells(first + (per_chunk * b) as u64);
+            let bits = bits.map(Wu32x8);
             put_flat(&sx, &c, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
         });
         let done = per_chunk * chunks;
@@ -141,7 +144,9 @@ impl<const D: usize> Generate<D> for NRooks<D> {
     }
 
     #[inline(always)]
-    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    fn gen_simd<I: Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+        // Written over `wide`'s types (the permutations' Feistel rounds are
+        // `IntLane` generic, not yet per level), so every level runs this.
         let key = seed.counter(PURPOSE);
         let d = D as u64;
         if let Some(flat) = sink.flat() {
@@ -180,13 +185,13 @@ impl<const D: usize> Generate<D> for NRooks<D> {
             k = next;
             cur
         };
-        drive32(sink, || {
+        drive32::<D, S, Wu32x8>(sink, || {
             let ks: [u32x8; 4] = build(u32x8::ZERO, |_| step());
             let cells: [[u32x8; 4]; D] =
                 build([u32x8::ZERO; 4], |j| PermuteX8::apply4([&perms[j]; 4], ks));
             build([f32x8::ZERO; D], |b| {
                 build(f32x8::ZERO, |j| {
-                    axis.point_x8(cells[j][b], lanes[j].next_u32x8())
+                    axis.point_x8(Wu32x8(cells[j][b]), Wu32x8(lanes[j].next_u32x8()))
                 })
             })
         });

@@ -3,15 +3,16 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8, Aos};
 use crate::error::PatternError;
-use crate::rng::{CounterX8, Seed};
-use wide::f32x8;
+use crate::num::lane::Lane;
+use crate::rng::{CounterLanes, Seed};
+use crate::simd::Isa;
 
 /// `N` independent uniform points in `[0,1)^D` (white noise).
 ///
 /// Coordinate `j` of point `k` is `⌊o_t / 2⁸⌋·2⁻²⁴` where `o_t` is output
 /// `t = k·D + j` of the counter-based stream [`Counter`](crate::rng::Counter)
 /// `seed.counter(RANDOM)`. The SIMD path reads the same outputs through
-/// [`CounterX8`] lanes.
+/// [`CounterX8`](crate::rng::CounterX8) lanes.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Random<const D: usize> {
     n: u64,
@@ -40,7 +41,7 @@ impl<const D: usize> Generate<D> for Random<D> {
     }
 
     #[inline(always)]
-    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    fn gen_simd<I: Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let key = seed.counter(PURPOSE);
         let d = D as u64;
         if let Some(flat) = sink.flat() {
@@ -49,19 +50,19 @@ impl<const D: usize> Generate<D> for Random<D> {
             // scalar path (a point split by the last vector is written twice,
             // with the same value).
             let vectors = flat.len() / 8;
-            let mut lanes = key.lanes(first * d, 1);
+            let mut lanes = key.lanes_in::<I::U32>(first * d, 1);
             lanes.chunks(vectors, |b, [bits]| {
-                flat[8 * b..8 * b + 8].copy_from_slice(&unit_f32x8(bits).to_array());
+                unit_f32x8(bits).store(&mut flat[8 * b..8 * b + 8]);
             });
             let done = 8 * vectors / D;
             let (points, _) = flat.as_chunks_mut::<D>();
             self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
             return;
         }
-        let mut lanes: [CounterX8; D] =
-            core::array::from_fn(|j| key.lanes(first.wrapping_mul(d) + j as u64, d));
-        drive8(sink, || {
-            build(f32x8::ZERO, |j| unit_f32x8(lanes[j].next_u32x8()))
+        let mut lanes: [CounterLanes<I::U32>; D] =
+            core::array::from_fn(|j| key.lanes_in(first.wrapping_mul(d) + j as u64, d));
+        drive8::<D, S, I::U32>(sink, || {
+            build(I::F32::splat(0.0), |j| unit_f32x8(lanes[j].next()))
         });
     }
 

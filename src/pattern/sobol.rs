@@ -4,8 +4,10 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
+use crate::num::lane::{Lane, U32x8Lane};
 use crate::rng::{purpose_mix, Seed};
-use wide::{f32x8, u32x4, u32x8};
+use crate::simd::Isa;
+use wide::{u32x4, u32x8};
 
 /// Number of Sobol' dimensions available to [`Sobol::sample`]: the van der Corput
 /// sequence plus Joe & Kuo (2008) dimensions 2 to 1024.
@@ -296,6 +298,32 @@ macro_rules! lane_ops {
 }
 
 lane_ops!(u32x8, owen_rev_x8, reverse_x8);
+
+/// Lane-wise [`owen_rev`] in the integer lanes of any level (the fills'
+/// dispatched copies).
+#[inline(always)]
+fn owen_rev_lanes<U: U32x8Lane>(mut r: U, add: U, mul: U) -> U {
+    r = r + add;
+    r = r ^ (r * U::splat(LK1));
+    r = r ^ (r * U::splat(LK2));
+    r = r * mul;
+    r = r ^ (r * U::splat(LK3));
+    r ^ (r * U::splat(LK4))
+}
+
+/// Lane-wise `u32::reverse_bits` (five swap steps) in the lanes of any level.
+#[inline(always)]
+fn reverse_lanes<U: U32x8Lane>(mut x: U) -> U {
+    x = (x >> 16) | (x << 16);
+    let m = U::splat(0x00FF_00FF);
+    x = ((x >> 8) & m) | ((x & m) << 8);
+    let m = U::splat(0x0F0F_0F0F);
+    x = ((x >> 4) & m) | ((x & m) << 4);
+    let m = U::splat(0x3333_3333);
+    x = ((x >> 2) & m) | ((x & m) << 2);
+    let m = U::splat(0x5555_5555);
+    ((x >> 1) & m) | ((x & m) << 1)
+}
 lane_ops!(u32x4, owen_rev_x4, reverse_x4);
 
 /// Seed purpose of the index scramble.
@@ -632,23 +660,24 @@ impl<const D: usize> Generate<D> for Sobol<D> {
     }
 
     #[inline(always)]
-    fn gen_simd<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
+    fn gen_simd<I: Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
         let ki = index_key(seed);
         let kv: [OwenKey; D] = core::array::from_fn(|j| value_key(seed, j as u32));
-        let (ki_add, ki_mul) = (u32x8::splat(ki.add), u32x8::splat(ki.mul));
-        let kv_add: [u32x8; D] = kv.map(|k| u32x8::splat(k.add));
-        let kv_mul: [u32x8; D] = kv.map(|k| u32x8::splat(k.mul));
+        let v = I::U32::splat;
+        let (ki_add, ki_mul) = (v(ki.add), v(ki.mul));
+        let kv_add: [I::U32; D] = kv.map(|k| v(k.add));
+        let kv_mul: [I::U32; D] = kv.map(|k| v(k.mul));
         // Columns of index bits 0, 1, 2 (reversed bits 31, 30, 29 of t).
-        let col: [[u32x8; 3]; D] =
-            core::array::from_fn(|j| core::array::from_fn(|b| u32x8::splat(NIBBLES[j][7][8 >> b])));
+        let col: [[I::U32; 3]; D] =
+            core::array::from_fn(|j| core::array::from_fn(|b| v(NIBBLES[j][7][8 >> b])));
         // Lane l holds index first + 8·block + l = group + ((off + l) & 7), where the
         // group is `base` for off + l < 8 and `base + 8` otherwise.
         let off = (first & 7) as u32;
         let mut base = first - u64::from(off);
-        let low_rev = u32x8::new(core::array::from_fn(|l| {
+        let low_rev = I::U32::from_array(core::array::from_fn(|l| {
             ((off + l as u32) & 7).reverse_bits()
         }));
-        let second = u32x8::new(core::array::from_fn(|l| {
+        let second = I::U32::from_array(core::array::from_fn(|l| {
             if off + l as u32 >= 8 {
                 u32::MAX
             } else {
@@ -656,18 +685,19 @@ impl<const D: usize> Generate<D> for Sobol<D> {
             }
         }));
         let mut cur = Group::<D>::new(base, ki);
-        drive8(sink, || {
+        let (zero, one) = (v(0), v(1));
+        drive8::<D, S, I::U32>(sink, || {
             let next = Group::<D>::new(base.wrapping_add(8), ki);
-            let r = second.select(u32x8::splat(next.rev), u32x8::splat(cur.rev)) | low_rev;
-            let t = owen_rev_x8(r, ki_add, ki_mul);
-            let m0 = u32x8::ZERO - (t >> 31);
-            let m1 = u32x8::ZERO - ((t >> 30) & u32x8::ONE);
-            let m2 = u32x8::ZERO - ((t >> 29) & u32x8::ONE);
-            let out: [f32x8; D] = build(f32x8::ZERO, |j| {
-                let hi = second.select(u32x8::splat(next.hi[j]), u32x8::splat(cur.hi[j]));
+            let r = I::U32::select(second, v(next.rev), v(cur.rev)) | low_rev;
+            let t = owen_rev_lanes(r, ki_add, ki_mul);
+            let m0 = zero - (t >> 31);
+            let m1 = zero - ((t >> 30) & one);
+            let m2 = zero - ((t >> 29) & one);
+            let out: [I::F32; D] = build(I::F32::splat(0.0), |j| {
+                let hi = I::U32::select(second, v(next.hi[j]), v(cur.hi[j]));
                 let x = hi ^ (m0 & col[j][0]) ^ (m1 & col[j][1]) ^ (m2 & col[j][2]);
-                let y = owen_rev_x8(x, kv_add[j], kv_mul[j]);
-                unit_f32x8(reverse_x8(y))
+                let y = owen_rev_lanes(x, kv_add[j], kv_mul[j]);
+                unit_f32x8(reverse_lanes(y))
             });
             cur = next;
             base = base.wrapping_add(8);
