@@ -405,29 +405,28 @@ impl<U: U32x8Lane> CounterLanes<U> {
         count: usize,
         mut f: impl FnMut(usize, [U; K]),
     ) {
-        let mut b = 0;
-        while b < count {
-            let run = (self.carry_free() / K).min(count - b);
-            let (mut lo, wa, wm, step) = (self.lo, self.wa, self.wm, self.step_lo);
-            let step_k = step * U::splat(K as u32);
-            for _ in 0..run {
-                let mut x = lo;
-                f(
-                    b,
-                    core::array::from_fn(|_| {
-                        let out = mix32_lanes((x ^ wa) * wm);
-                        x = x + step;
-                        out
-                    }),
-                );
-                lo = lo + step_k;
-                b += 1;
-            }
-            self.lo = lo;
-            if b < count {
-                f(b, core::array::from_fn(|_| self.next()));
-                b += 1;
-            }
+        let mut it = self.chunk_iter::<K>(count);
+        while let Some((b, v)) = it.next() {
+            f(b, v);
+        }
+    }
+
+    /// [`CounterLanes::chunks`] as an iterator, for bodies that must compile
+    /// inside the caller (the run-time AVX2 copy; see `pattern::drive8!`):
+    /// `next` is always inlined, its carry path is out of line.
+    #[inline(always)]
+    pub(crate) fn chunk_iter<const K: usize>(&mut self, count: usize) -> Chunks<'_, U, K> {
+        let run = (self.carry_free() / K).min(count);
+        Chunks {
+            lo: self.lo,
+            wa: self.wa,
+            wm: self.wm,
+            step: self.step_lo,
+            step_k: self.step_lo * U::splat(K as u32),
+            run,
+            b: 0,
+            count,
+            lanes: self,
         }
     }
 
@@ -486,6 +485,81 @@ impl<U: U32x8Lane> CounterLanes<U> {
             self.refresh();
         }
         out
+    }
+}
+
+/// The iterator of [`CounterLanes::chunk_iter`]: item `b` is `(b, out)`,
+/// `out` the next `K` results of [`CounterLanes::next`] in order. Between
+/// carries out of the low counter words (one per `2³²` outputs) each item
+/// costs the hash alone; dropping it leaves the lanes where the items taken
+/// would.
+pub(crate) struct Chunks<'a, U: U32x8Lane, const K: usize> {
+    lanes: &'a mut CounterLanes<U>,
+    lo: U,
+    wa: U,
+    wm: U,
+    step: U,
+    step_k: U,
+    /// Items left before a low word could wrap (or `count` is reached).
+    run: usize,
+    b: usize,
+    count: usize,
+}
+
+impl<U: U32x8Lane, const K: usize> Chunks<'_, U, K> {
+    /// The next item, `None` after `count`.
+    #[inline(always)]
+    #[allow(clippy::should_implement_trait)] // `Iterator::next` need not inline
+    pub(crate) fn next(&mut self) -> Option<(usize, [U; K])> {
+        let b = self.b;
+        if self.run == 0 {
+            // By value, so that `self` does not escape and stays in registers.
+            let (out, lo, wa, wm, run) = carry_step::<U, K>(self.lanes, self.lo, b, self.count)?;
+            (self.lo, self.wa, self.wm, self.run, self.b) = (lo, wa, wm, run, b + 1);
+            return Some((b, out));
+        }
+        self.run -= 1;
+        let mut x = self.lo;
+        let mut out = [x; K];
+        for o in &mut out {
+            *o = mix32_lanes((x ^ self.wa) * self.wm);
+            x = x + self.step;
+        }
+        self.lo = self.lo + self.step_k;
+        self.b = b + 1;
+        Some((b, out))
+    }
+}
+
+/// Item `b` of [`Chunks`] through [`CounterLanes::next`], which carries into
+/// the high words, with the lanes' low words at `lo`; then the lanes' new
+/// `(lo, wa, wm)` and the next carry-free run. Rare: at the start and once
+/// per `2³²` outputs.
+#[cold]
+#[inline(never)]
+#[allow(clippy::type_complexity)]
+fn carry_step<U: U32x8Lane, const K: usize>(
+    lanes: &mut CounterLanes<U>,
+    lo: U,
+    b: usize,
+    count: usize,
+) -> Option<([U; K], U, U, U, usize)> {
+    if b >= count {
+        return None;
+    }
+    lanes.lo = lo;
+    let mut out = [lo; K];
+    for o in &mut out {
+        *o = lanes.next();
+    }
+    let run = (lanes.carry_free() / K).min(count - b - 1);
+    Some((out, lanes.lo, lanes.wa, lanes.wm, run))
+}
+
+impl<U: U32x8Lane, const K: usize> Drop for Chunks<'_, U, K> {
+    #[inline(always)]
+    fn drop(&mut self) {
+        self.lanes.lo = self.lo;
     }
 }
 

@@ -14,11 +14,18 @@
 //! types: `wide`'s at the compiled level, [`crate::num::avx2`]'s 256-bit
 //! types over `core::arch` in the AVX2 copy. This covers the periodogram
 //! accumulation ([`crate::spectrum::Dft`]) and the `f32` ray batches of
-//! [`crate::world`] and [`crate::integrand::HalfSpace`]. The pattern fills
-//! run their AVX2 copy too, but their generators are written over `wide`'s
-//! types directly, so they still compute in 128-bit halves there (no faster;
-//! the README's "Build flags" table). The scene crate's batches are not
-//! dispatched yet.
+//! [`crate::world`] and [`crate::integrand::HalfSpace`], and the random,
+//! jittered and Sobol′ pattern fills, whose integer hashes run in 256-bit
+//! lanes there (`vpmulld`). The Halton, N-rooks and multi-jittered fills run
+//! their AVX2 copy with `wide`'s types, so they still compute in 128-bit
+//! halves (the README's "Build flags" table). The scene crate's batches are
+//! not dispatched yet.
+//!
+//! Code inside a dispatched kernel is written without closures on its hot
+//! path (plain loops, the fills' block macros): stable Rust cannot mark a
+//! closure `#[inline(always)]`, and a closure compiled out of line is
+//! compiled for the baseline, where every `core::arch` intrinsic becomes a
+//! call.
 //!
 //! The kernels use no fused multiply-add and no operation whose result
 //! depends on the instruction set (IEEE `+ − × ÷ √`, `floor`, comparisons,

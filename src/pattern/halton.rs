@@ -820,7 +820,7 @@ impl<const D: usize> Generate<D> for Halton<D> {
         let n = sink.len();
         let leads: [Lead; D] = core::array::from_fn(|j| Lead::new(&BASES[j], &keys[j], n));
         let mut start = first;
-        drive8::<D, S, crate::num::lane::Wu32x8>(sink, || {
+        drive8!(sink, crate::num::lane::Wu32x8, {
             // Lanes past 2³² − 1 are past `N` and discarded.
             let last = (start + 7).min(u64::from(u32::MAX)) as u32;
             let s0 = start as u32;

@@ -2,8 +2,8 @@
 
 use super::sealed::{Generate, Sink};
 use super::{
-    advance8, build, check_dims, drive8, lanes_of, odometer_step, put_flat, Aos, Strata, StrataX8,
-    MAX_STRATA,
+    advance8, array, build, check_dims, drive8, lanes_of, odometer_step, put_flat, Aos, Strata,
+    StrataX8, MAX_STRATA,
 };
 use crate::error::PatternError;
 use crate::num::lane::{F32Lane, Lane, U32x8Lane};
@@ -123,7 +123,8 @@ impl<const D: usize> Jittered<D> {
         let mut row_left = (m0 - cell[0]) / 8;
         let blocks = flat.len() / (8 * D);
         let mut lanes = key.lanes_in::<I::U32>(first * D as u64, 1);
-        lanes.chunks::<D>(blocks, |b, bits| {
+        let mut it = lanes.chunk_iter::<D>(blocks);
+        while let Some((b, bits)) = it.next() {
             put_flat(&sx, &cf, &bits, &mut flat[8 * D * b..8 * D * (b + 1)]);
             row_left -= 1;
             if row_left == 0 {
@@ -134,7 +135,8 @@ impl<const D: usize> Jittered<D> {
                     cf[v] = cf[v] + step[v];
                 }
             }
-        });
+        }
+        drop(it);
         let done = 8 * blocks;
         let (points, _) = flat.as_chunks_mut::<D>();
         self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
@@ -197,14 +199,14 @@ impl<const D: usize> Generate<D> for Jittered<D> {
         }
         let mut lanes: [CounterLanes<I::U32>; D] =
             core::array::from_fn(|j| key.lanes_in(first * d + j as u64, d));
-        let axes: [Strata; D] = self.strata.map(Strata::new);
+        let sx: [StrataX8<I::U32>; D] =
+            core::array::from_fn(|j| StrataX8::new([Strata::new(self.strata[j]); 8]));
         let vm: [I::U32; D] = self.strata.map(I::U32::splat);
         // Per-lane cell counters for points first + l, advanced by 8 per block.
         let mut cell: [I::U32; D] = lanes_of(|l| self.cell_of(first + l as u64));
-        drive8::<D, S, I::U32>(sink, || {
-            let out = build(I::F32::splat(0.0), |j| {
-                axes[j].point_x8(cell[j], lanes[j].next())
-            });
+        drive8!(sink, I::U32, {
+            let out: [I::F32; D] = array!(I::F32::splat(0.0), |j| sx[j]
+                .point_x8(cell[j].to_f32(), lanes[j].next()));
             advance8(&mut cell, &vm);
             out
         });

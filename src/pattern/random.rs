@@ -1,7 +1,7 @@
 //! Uniform random points.
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8, Aos};
+use super::{array, build, check_dims, check_n, drive8, unit_f32, unit_f32x8, Aos};
 use crate::error::PatternError;
 use crate::num::lane::Lane;
 use crate::rng::{CounterLanes, Seed};
@@ -51,9 +51,11 @@ impl<const D: usize> Generate<D> for Random<D> {
             // with the same value).
             let vectors = flat.len() / 8;
             let mut lanes = key.lanes_in::<I::U32>(first * d, 1);
-            lanes.chunks(vectors, |b, [bits]| {
+            let mut it = lanes.chunk_iter::<1>(vectors);
+            while let Some((b, [bits])) = it.next() {
                 unit_f32x8(bits).store(&mut flat[8 * b..8 * b + 8]);
-            });
+            }
+            drop(it);
             let done = 8 * vectors / D;
             let (points, _) = flat.as_chunks_mut::<D>();
             self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
@@ -61,9 +63,11 @@ impl<const D: usize> Generate<D> for Random<D> {
         }
         let mut lanes: [CounterLanes<I::U32>; D] =
             core::array::from_fn(|j| key.lanes_in(first.wrapping_mul(d) + j as u64, d));
-        drive8::<D, S, I::U32>(sink, || {
-            build(I::F32::splat(0.0), |j| unit_f32x8(lanes[j].next()))
-        });
+        drive8!(
+            sink,
+            I::U32,
+            array!(I::F32::splat(0.0), |j| unit_f32x8(lanes[j].next()))
+        );
     }
 
     fn gen_scalar<S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {

@@ -2,7 +2,7 @@
 //! functions. The construction is documented on [`Sobol`].
 
 use super::sealed::{Generate, Sink};
-use super::{build, check_dims, check_n, drive8, unit_f32, unit_f32x8};
+use super::{array, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
 use crate::num::lane::{Lane, U32x8Lane};
 use crate::rng::{purpose_mix, Seed};
@@ -686,14 +686,14 @@ impl<const D: usize> Generate<D> for Sobol<D> {
         }));
         let mut cur = Group::<D>::new(base, ki);
         let (zero, one) = (v(0), v(1));
-        drive8::<D, S, I::U32>(sink, || {
+        drive8!(sink, I::U32, {
             let next = Group::<D>::new(base.wrapping_add(8), ki);
             let r = I::U32::select(second, v(next.rev), v(cur.rev)) | low_rev;
             let t = owen_rev_lanes(r, ki_add, ki_mul);
             let m0 = zero - (t >> 31);
             let m1 = zero - ((t >> 30) & one);
             let m2 = zero - ((t >> 29) & one);
-            let out: [I::F32; D] = build(I::F32::splat(0.0), |j| {
+            let out: [I::F32; D] = array!(I::F32::splat(0.0), |j| {
                 let hi = I::U32::select(second, v(next.hi[j]), v(cur.hi[j]));
                 let x = hi ^ (m0 & col[j][0]) ^ (m1 & col[j][1]) ^ (m2 & col[j][2]);
                 let y = owen_rev_lanes(x, kv_add[j], kv_mul[j]);
