@@ -2,9 +2,10 @@
 //! [`radical_inverse`]. The construction is documented on [`Halton`].
 
 use super::sealed::{Generate, Sink};
-use super::{check_dims, check_n, drive8};
+use super::{array, check_dims, check_n, drive8};
 use crate::error::PatternError;
-use crate::rng::{mix32, mix32x8, Seed};
+use crate::num::lane::{Lane, U32x8Lane};
+use crate::rng::{mix32, mix32_lanes, Seed};
 use wide::{f32x8, f64x4, u32x8, u64x4};
 
 /// Number of Halton dimensions available to [`Halton::sample`].
@@ -358,27 +359,27 @@ fn affine_digit(a: u32, b: u32, small: u32, h: u32) -> u32 {
     small_mod(alpha * a + beta, b, small)
 }
 
-/// Lane-wise [`affine_digit`].
+/// Lane-wise [`affine_digit`], in the lanes `U` of one instruction-set level.
 #[inline(always)]
-fn affine_digit_x8<const B: u32>(a: u32x8, h: u32x8) -> u32x8 {
+fn affine_digit_x8<U: U32x8Lane, const B: u32>(a: U, h: U) -> U {
     if B == 2 {
         return a ^ (h >> 31);
     }
-    let x = (h >> 8) * u32x8::splat(B - 1);
-    let alpha = u32x8::ONE + (x >> 24);
-    let beta = ((x & u32x8::splat(0xFF_FFFF)) * u32x8::splat(B)) >> 24;
+    let x = (h >> 8) * U::splat(B - 1);
+    let alpha = U::splat(1) + (x >> 24);
+    let beta = ((x & U::splat(0xFF_FFFF)) * U::splat(B)) >> 24;
     let y = alpha * a + beta;
-    y - ((y * u32x8::splat(BaseOf::<B>::BASE.small)) >> 20) * u32x8::splat(B)
+    y - ((y * U::splat(BaseOf::<B>::BASE.small)) >> 20) * U::splat(B)
 }
 
 /// `π(0) = β` of [`affine_digit`] (the digit of an index past its last digit).
 #[inline(always)]
-fn beta_x8<const B: u32>(h: u32x8) -> u32x8 {
+fn beta_x8<U: U32x8Lane, const B: u32>(h: U) -> U {
     if B == 2 {
         return h >> 31;
     }
-    let x = (h >> 8) * u32x8::splat(B - 1);
-    ((x & u32x8::splat(0xFF_FFFF)) * u32x8::splat(B)) >> 24
+    let x = (h >> 8) * U::splat(B - 1);
+    ((x & U::splat(0xFF_FFFF)) * U::splat(B)) >> 24
 }
 
 /// The plain digit loop: `(cell, tail)` of the radical inverse of `index` with
@@ -544,81 +545,79 @@ impl Lead {
 /// `c = [R_k + l ≥ b^k]` (one at most, as `b^k ≥ 8`): prefix `R_k + l − c·b^k`,
 /// digit `(A_k + c) mod b`.
 #[inline(always)]
-fn coord_x8<const B: u32>(s0: u32, nd: u32, keys: &DimKeys, lead: &Lead) -> f32x8 {
+fn coord_x8<U: U32x8Lane, const B: u32>(s0: u32, nd: u32, keys: &DimKeys, lead: &Lead) -> U::F {
     let base = &BaseOf::<B>::BASE;
-    let vb = u32x8::splat(B);
-    let kd = u32x8::splat(keys.dim);
-    let lanes = u32x8::new([0, 1, 2, 3, 4, 5, 6, 7]);
-    let idx = u32x8::splat(s0) + lanes;
+    let vb = U::splat(B);
+    let kd = U::splat(keys.dim);
+    let lanes = U::from_array([0, 1, 2, 3, 4, 5, 6, 7]);
+    let idx = U::splat(s0) + lanes;
     let q0 = lead.div.div(s0);
     let r0 = s0 - q0 * lead.m;
     let t: [u32; 8] = lead.t[r0 as usize..r0 as usize + 8].try_into().unwrap();
-    let (mut cell, mut tail) = (u32x8::new(t), u32x8::ZERO);
+    let (mut cell, mut tail) = (U::from_array(t), U::splat(0));
     let nd = nd.min(base.digits);
     let k0 = lead.k0;
+    let dm = U::splat(DIGIT_MUL);
     if B == 2 {
-        fold_digits::<B>(k0, nd, &mut cell, &mut tail, |k| {
-            let prefix = idx & u32x8::splat((1u32 << k) - 1);
-            let a = (idx >> k) & u32x8::ONE;
-            let g = mix32x8(prefix ^ kd);
-            let h =
-                ((g ^ (g >> 16)) ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL);
-            affine_digit_x8::<B>(a, h)
+        fold_digits!(B, U, k0, nd, cell, tail, |k| {
+            let prefix = idx & U::splat((1u32 << k) - 1);
+            let a = (idx >> k) & U::splat(1);
+            let g = mix32_lanes(prefix ^ kd);
+            let h = ((g ^ (g >> 16)) ^ U::splat(keys.digit[k as usize])) * dm;
+            affine_digit_x8::<U, B>(a, h)
         });
     } else {
         let (mut q, mut r) = (q0, r0);
-        fold_digits::<B>(k0, nd, &mut cell, &mut tail, |k| {
+        fold_digits!(B, U, k0, nd, cell, tail, |k| {
             let qn = q / B;
             let ak = q - qn * B;
             let pk = base.pow[k as usize];
-            let x = u32x8::splat(r) + lanes;
-            let vp = u32x8::splat(pk);
-            let c = x.simd_ge(vp);
+            let x = U::splat(r) + lanes;
+            let vp = U::splat(pk);
+            let c = x.ge(vp);
             let prefix = x - (c & vp);
-            let a = u32x8::splat(ak) - c;
-            let a = a & !a.simd_eq(vb);
-            let g = mix32x8(prefix ^ kd);
-            let h =
-                ((g ^ (g >> 16)) ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL);
+            let a = U::splat(ak) - c;
+            let a = a & a.ne(vb);
+            let g = mix32_lanes(prefix ^ kd);
+            let h = ((g ^ (g >> 16)) ^ U::splat(keys.digit[k as usize])) * dm;
             r = r.wrapping_add(ak.wrapping_mul(pk));
             q = qn;
-            affine_digit_x8::<B>(a, h)
+            affine_digit_x8::<U, B>(a, h)
         });
     }
-    let g = mix32x8(idx ^ kd);
+    let g = mix32_lanes(idx ^ kd);
     let y = g ^ (g >> 16);
-    fold_digits::<B>(nd.max(k0), base.digits, &mut cell, &mut tail, |k| {
-        beta_x8::<B>((y ^ u32x8::splat(keys.digit[k as usize])) * u32x8::splat(DIGIT_MUL))
+    fold_digits!(B, U, nd.max(k0), base.digits, cell, tail, |k| {
+        beta_x8::<U, B>((y ^ U::splat(keys.digit[k as usize])) * dm)
     });
-    base.coordinate_x8(cell, tail)
+    // The conversion in `wide`'s `f64x4` at every level (once per coordinate,
+    // against ~20 hashed digits).
+    let v = base.coordinate_x8(u32x8::new(cell.to_array()), u32x8::new(tail.to_array()));
+    <U::F as Lane>::load(&v.to_array())
 }
 
-/// Folds `digit(k)` for `k ∈ [lo, hi)` into the base-`B` accumulators: `cell`
-/// for `k < J_B`, `tail` after. Two loops rather than one with a per-digit
-/// choice, so that each accumulator stays in a register (a per-digit choice
-/// compiled to a store and reload of whichever one was chosen, a latency chain
-/// through memory on every digit).
-#[inline(always)]
-fn fold_digits<const B: u32>(
-    lo: u32,
-    hi: u32,
-    cell: &mut u32x8,
-    tail: &mut u32x8,
-    mut digit: impl FnMut(u32) -> u32x8,
-) {
-    let j = BaseOf::<B>::BASE.cell_digits;
-    let vb = u32x8::splat(B);
-    let mut c = *cell;
-    for k in lo..hi.min(j) {
-        c = c * vb + digit(k);
-    }
-    *cell = c;
-    let mut t = *tail;
-    for k in lo.max(j)..hi {
-        t = t * vb + digit(k);
-    }
-    *tail = t;
+/// Folds `digit(k)` for `k ∈ [lo, hi)` into the base-`B` accumulators `cell`
+/// (for `k < J_B`) and `tail` (after), lanes `U`. Two loops rather than one
+/// with a per-digit choice, so that each accumulator stays in a register (a
+/// per-digit choice compiled to a store and reload of whichever one was
+/// chosen, a latency chain through memory on every digit). A macro, so that
+/// the digit expression compiles in place in the dispatched AVX2 copy (see
+/// `pattern::drive8!`); the expression is written out in both loops and runs
+/// once per `k`, in order.
+macro_rules! fold_digits {
+    ($B:expr, $U:ty, $lo:expr, $hi:expr, $cell:ident, $tail:ident, |$k:ident| $digit:expr) => {{
+        let j = BaseOf::<$B>::BASE.cell_digits;
+        let vb = <$U>::splat($B);
+        let (lo, hi): (u32, u32) = ($lo, $hi);
+        for $k in lo..hi.min(j) {
+            $cell = $cell * vb + $digit;
+        }
+        for $k in lo.max(j)..hi {
+            $tail = $tail * vb + $digit;
+        }
+    }};
 }
+use fold_digits;
 
 /// Number of base-`b` digits of `i` (0 for `i = 0`).
 #[inline(always)]
@@ -815,24 +814,23 @@ impl<const D: usize> Generate<D> for Halton<D> {
 
     #[inline(always)]
     fn gen_simd<I: crate::simd::Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        // Written over `wide`'s types: every level runs this.
         let keys: [DimKeys; D] = core::array::from_fn(|j| DimKeys::new(seed, j as u32));
         let n = sink.len();
         let leads: [Lead; D] = core::array::from_fn(|j| Lead::new(&BASES[j], &keys[j], n));
         let mut start = first;
-        drive8!(sink, crate::num::lane::Wu32x8, {
+        drive8!(sink, I::U32, {
             // Lanes past 2³² − 1 are past `N` and discarded.
             let last = (start + 7).min(u64::from(u32::MAX)) as u32;
             let s0 = start as u32;
-            let out = core::array::from_fn(|j| match j {
-                0 => coord_x8::<2>(s0, 32 - last.leading_zeros(), &keys[0], &leads[0]),
-                1 => coord_x8::<3>(
+            let out: [I::F32; D] = array!(I::F32::splat(0.0), |j| match j {
+                0 => coord_x8::<I::U32, 2>(s0, 32 - last.leading_zeros(), &keys[0], &leads[0]),
+                1 => coord_x8::<I::U32, 3>(
                     s0,
                     digit_count(last, &BaseOf::<3>::BASE),
                     &keys[1],
                     &leads[1],
                 ),
-                _ => coord_x8::<5>(
+                _ => coord_x8::<I::U32, 5>(
                     s0,
                     digit_count(last, &BaseOf::<5>::BASE),
                     &keys[2],
