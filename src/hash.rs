@@ -63,7 +63,7 @@
 //! [^5]: M. Thorup, *High Speed Hashing for Integers and Strings*, arXiv:1504.06804
 //!   (2015), section on multiply-add-shift.
 
-use crate::num::lane::IntLane;
+use crate::num::lane::{IntLane, U16x16Lane};
 use crate::rng::{mix32, mix32x8};
 use wide::{u16x16, u16x8, u32x8};
 
@@ -487,7 +487,7 @@ pub(crate) fn apply_with<const C: usize>(
 
 /// The key words of sixteen permutations of a narrow domain
 /// (`16 < n ≤ 2¹⁶`, [`Shape::narrow`]), one key per 16-bit lane, as
-/// [`apply16`] reads them ([`PermuteX16::word`]): twice the lanes of
+/// [`apply16`] reads them ([`PermuteX16::words_in`]): twice the lanes of
 /// [`PermuteX8`] per instruction, and a native multiply in SSE2 builds.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct PermuteX16 {
@@ -516,10 +516,14 @@ impl PermuteX16 {
         PermuteX16 { words }
     }
 
-    /// Key word `w` of the lanes, as [`apply16`] takes it.
+    /// Every key word in the lanes `L` of one instruction-set level.
     #[inline(always)]
-    pub(crate) fn word(&self, w: usize) -> u16x16 {
-        self.words[w]
+    pub(crate) fn words_in<L: U16x16Lane>(&self) -> [L; KEY_WORDS] {
+        let mut out = [L::splat(0); KEY_WORDS];
+        for (o, w) in out.iter_mut().zip(&self.words) {
+            *o = L::from_array(w.to_array());
+        }
+        out
     }
 }
 
@@ -570,19 +574,20 @@ pub(crate) fn widen(x: u16x16) -> [u32x8; 2] {
 /// `x + c mod n` is `x − d` when `x ≥ d`, else `x + c`, which never leaves
 /// 16 bits (`n = 2¹⁶` included).
 #[inline(always)]
-pub(crate) fn apply16<const C: usize>(
+pub(crate) fn apply16<L: U16x16Lane, const C: usize>(
     s: &Shape,
-    i: [u16x16; C],
-    word: impl Fn(usize, usize) -> u16x16,
-) -> [u16x16; C] {
+    i: [L; C],
+    word: impl Fn(usize, usize) -> L,
+) -> [L; C] {
     debug_assert!(in_sixteen_bits(s.n));
     let mut x = i;
     feistel_lanes(s, &mut x, &word);
+    let vn = L::splat(s.n); // truncated: 0 for n = 2¹⁶, as the rotation wants
     for v in 0..C {
         x[v] = walk(s, x[v], |w| word(v, w));
         let d = word(v, ROTATION);
-        let c = u16x16::splat(s.n as u16) - d;
-        x[v] = x[v].simd_ge(d).select(x[v] - d, x[v] + c);
+        let c = vn - d;
+        x[v] = L::select(x[v].ge(d), x[v] - d, x[v] + c);
     }
     x
 }
@@ -794,7 +799,8 @@ mod tests {
                 let s = Shape::new(n);
                 let top = u16x16::splat((n - 1) as u16);
                 let clamp = |v: u16x16| v.min(top);
-                let word = |_: usize, w: usize| p.word(w);
+                let pw = p.words_in::<u16x16>();
+                let word = |_: usize, w: usize| pw[w];
                 for base in [0u32, n / 3, n.saturating_sub(40)] {
                     let idx = |v: u32, l: u32| (base + 16 * v + l).min(n + 5);
                     let x: [u16x16; 4] = core::array::from_fn(|v| {

@@ -161,6 +161,8 @@ pub trait Isa {
     type F64: crate::num::lane::F64Lane;
     /// Eight `u32` lanes, whose `f32` lanes are [`Isa::F32`].
     type U32: crate::num::lane::U32x8Lane<F = Self::F32>;
+    /// Sixteen `u16` lanes, widening to [`Isa::U32`].
+    type U16: crate::num::lane::U16x16Lane<U32 = Self::U32>;
 }
 
 /// The compiled level: `wide`'s `f32x8` and `f64x4`, and
@@ -172,6 +174,7 @@ impl Isa for Wide {
     type F32 = wide::f32x8;
     type F64 = wide::f64x4;
     type U32 = crate::num::lane::Wu32x8;
+    type U16 = wide::u16x16;
 }
 
 /// One hot call, to run at the current [`level`] through [`dispatch`]: a
@@ -274,6 +277,7 @@ mod rt {
         type F32 = crate::num::avx2::F32x8;
         type F64 = crate::num::avx2::F64x4;
         type U32 = crate::num::avx2::U32x8;
+        type U16 = crate::num::avx2::U16x16;
     }
 
     /// `k.run::<Avx2>()` compiled with AVX2 and FMA enabled.

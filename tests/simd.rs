@@ -44,6 +44,9 @@ fn outputs() -> Vec<u64> {
     }
     let p3 = Sobol::<3>::new(999).unwrap().to_vec(seed).unwrap();
     bits.extend(p3.iter().flatten().map(|x| u64::from(x.to_bits())));
+    // 3D N-rooks: the 16-bit permutation lanes in chunks of 12 vectors.
+    let r3 = NRooks::<3>::new(2000).unwrap().to_vec(seed).unwrap();
+    bits.extend(r3.iter().flatten().map(|x| u64::from(x.to_bits())));
 
     // Periodograms: points in 1D, 2D, 3D; segments; a segment pattern.
     let p1 = Random::<1>::new(301).unwrap().to_vec(seed).unwrap();
@@ -432,5 +435,79 @@ fn integer_lanes_equal_scalar_u32() {
         check::<U32x8>(a, b, "avx2");
     } else {
         println!("no AVX2 on this CPU: AVX2 integer lanes skipped");
+    }
+}
+
+/// The 16-bit lanes of the narrow-domain permutations, AVX2 and compiled
+/// level (`wide`'s `u16x16`), against scalar `u16` arithmetic lane by lane:
+/// wrapping products, shifts, the unsigned `≥` on both sides of `2¹⁵`,
+/// selections and the zero-extension to 32 bits.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[test]
+fn integer_lanes_equal_scalar_u16() {
+    use linesample::num::avx2::U16x16;
+    use linesample::num::lane::{IntLane, U16x16Lane, U32x8Lane};
+    let a: [u16; 16] = [
+        0, 1, 0x7FFF, 0x8000, 0xFFFF, 0xBEEF, 12345, 256, 3, 0x8001, 0x7FFE, 40000, 2, 9, 0xFFFE,
+        1000,
+    ];
+    let b: [u16; 16] = [
+        0xFFFF, 1, 0x8000, 0x7FFF, 3, 0x79B9, 12345, 7, 3, 0x7FFF, 0x8000, 39999, 0, 0xFFFF, 5,
+        65535,
+    ];
+    fn check<L: U16x16Lane>(a: [u16; 16], b: [u16; 16], level: &str) {
+        let (va, vb) = (L::from_array(a), L::from_array(b));
+        let lanes = |v: L| -> [u32; 16] {
+            let [lo, hi] = v.widen();
+            let (lo, hi) = (lo.to_array(), hi.to_array());
+            core::array::from_fn(|l| if l < 8 { lo[l] } else { hi[l - 8] })
+        };
+        type Op = (&'static str, fn(u16, u16) -> u16);
+        let ops: [Op; 10] = [
+            ("add", |x, y| x.wrapping_add(y)),
+            ("sub", |x, y| x.wrapping_sub(y)),
+            ("mul", |x, y| x.wrapping_mul(y)),
+            ("and", |x, y| x & y),
+            ("or", |x, y| x | y),
+            ("xor", |x, y| x ^ y),
+            ("shr 5", |x, _| x >> 5),
+            ("shl 3", |x, _| x << 3),
+            ("ge", |x, y| if x >= y { u16::MAX } else { 0 }),
+            ("select", |x, y| if x >= y { x } else { y }),
+        ];
+        let mut x = va;
+        x ^= vb;
+        let got: [L; 10] = [
+            va + vb,
+            va - vb,
+            va * vb,
+            va & vb,
+            va | vb,
+            x,
+            va >> 5,
+            va << 3,
+            va.ge(vb),
+            L::select(va.ge(vb), va, vb),
+        ];
+        for ((name, f), v) in ops.iter().zip(got) {
+            let r = lanes(v);
+            for l in 0..16 {
+                assert_eq!(r[l], u32::from(f(a[l], b[l])), "{level} {name} lane {l}");
+            }
+        }
+        assert_eq!(lanes(L::splat(0x1_2345)), [0x2345; 16], "{level} splat");
+        assert!(
+            va.ge(vb).any() && !L::splat(0).ge(L::splat(1)).any(),
+            "{level} any"
+        );
+    }
+    check::<wide::u16x16>(a, b, "compiled");
+    if simd::avx2_fma_available() {
+        check::<U16x16>(a, b, "avx2");
+    } else {
+        println!("no AVX2 on this CPU: AVX2 16-bit lanes skipped");
     }
 }

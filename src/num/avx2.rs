@@ -16,25 +16,27 @@
 //! comparisons are ordered and quiet (false for NaN), `select` takes the
 //! whole lane from the mask's sign bit (masks are all-ones or all-zeros).
 
-use super::lane::{F32Lane, F64Lane, Lane, U32x8Lane};
+use super::lane::{F32Lane, F64Lane, IntLane, Lane, U16x16Lane, U32x8Lane};
 use core::arch::x86_64::{
-    __m256, __m256d, __m256i, _mm256_add_epi32, _mm256_add_epi64, _mm256_add_pd, _mm256_add_ps,
-    _mm256_and_pd, _mm256_and_ps, _mm256_and_si256, _mm256_andnot_pd, _mm256_andnot_ps,
-    _mm256_blendv_epi8, _mm256_blendv_pd, _mm256_blendv_ps, _mm256_castps_si256,
-    _mm256_castsi256_pd, _mm256_castsi256_ps, _mm256_cmp_pd, _mm256_cmp_ps, _mm256_cmpeq_epi32,
-    _mm256_cmpgt_epi32, _mm256_cvtepi32_epi64, _mm256_cvtepi32_ps, _mm256_cvtpd_epi32,
-    _mm256_cvtps_epi32, _mm256_div_pd, _mm256_div_ps, _mm256_loadu_pd, _mm256_loadu_ps,
-    _mm256_loadu_si256, _mm256_max_pd, _mm256_max_ps, _mm256_min_pd, _mm256_min_ps,
-    _mm256_movemask_epi8, _mm256_movemask_pd, _mm256_movemask_ps, _mm256_mul_pd, _mm256_mul_ps,
-    _mm256_mullo_epi32, _mm256_or_si256, _mm256_permute2x128_si256, _mm256_round_pd,
-    _mm256_round_ps, _mm256_set1_epi32, _mm256_set1_epi64x, _mm256_set1_pd, _mm256_set1_ps,
+    __m256, __m256d, __m256i, _mm256_add_epi16, _mm256_add_epi32, _mm256_add_epi64, _mm256_add_pd,
+    _mm256_add_ps, _mm256_and_pd, _mm256_and_ps, _mm256_and_si256, _mm256_andnot_pd,
+    _mm256_andnot_ps, _mm256_blendv_epi8, _mm256_blendv_pd, _mm256_blendv_ps, _mm256_castps_si256,
+    _mm256_castsi256_pd, _mm256_castsi256_ps, _mm256_castsi256_si128, _mm256_cmp_pd, _mm256_cmp_ps,
+    _mm256_cmpeq_epi16, _mm256_cmpeq_epi32, _mm256_cmpgt_epi32, _mm256_cvtepi32_epi64,
+    _mm256_cvtepi32_ps, _mm256_cvtepu16_epi32, _mm256_cvtpd_epi32, _mm256_cvtps_epi32,
+    _mm256_div_pd, _mm256_div_ps, _mm256_extracti128_si256, _mm256_loadu_pd, _mm256_loadu_ps,
+    _mm256_loadu_si256, _mm256_max_epu16, _mm256_max_pd, _mm256_max_ps, _mm256_min_pd,
+    _mm256_min_ps, _mm256_movemask_epi8, _mm256_movemask_pd, _mm256_movemask_ps, _mm256_mul_pd,
+    _mm256_mul_ps, _mm256_mullo_epi16, _mm256_mullo_epi32, _mm256_or_si256,
+    _mm256_permute2x128_si256, _mm256_round_pd, _mm256_round_ps, _mm256_set1_epi16,
+    _mm256_set1_epi32, _mm256_set1_epi64x, _mm256_set1_pd, _mm256_set1_ps, _mm256_sll_epi16,
     _mm256_sll_epi32, _mm256_slli_epi32, _mm256_slli_epi64, _mm256_sqrt_pd, _mm256_sqrt_ps,
-    _mm256_srl_epi32, _mm256_storeu_pd, _mm256_storeu_ps, _mm256_storeu_si256, _mm256_sub_epi32,
-    _mm256_sub_pd, _mm256_sub_ps, _mm256_unpackhi_epi32, _mm256_unpacklo_epi32, _mm256_xor_pd,
-    _mm256_xor_ps, _mm256_xor_si256, _mm_cvtsi32_si128, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
-    _MM_FROUND_NO_EXC, _MM_FROUND_TO_NEG_INF,
+    _mm256_srl_epi16, _mm256_srl_epi32, _mm256_storeu_pd, _mm256_storeu_ps, _mm256_storeu_si256,
+    _mm256_sub_epi16, _mm256_sub_epi32, _mm256_sub_pd, _mm256_sub_ps, _mm256_unpackhi_epi32,
+    _mm256_unpacklo_epi32, _mm256_xor_pd, _mm256_xor_ps, _mm256_xor_si256, _mm_cvtsi32_si128,
+    _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _MM_FROUND_NO_EXC, _MM_FROUND_TO_NEG_INF,
 };
-use core::ops::{Add, BitAnd, BitOr, BitXor, Div, Mul, Neg, Shl, Shr, Sub};
+use core::ops::{Add, BitAnd, BitOr, BitXor, BitXorAssign, Div, Mul, Neg, Shl, Shr, Sub};
 
 /// Eight `f32` lanes in one AVX register.
 #[derive(Clone, Copy, Debug)]
@@ -362,6 +364,97 @@ impl U32x8Lane for U32x8 {
                 U32x8(_mm256_permute2x128_si256::<0x20>(lo, hi)),
                 U32x8(_mm256_permute2x128_si256::<0x31>(lo, hi)),
             )
+        }
+    }
+}
+
+/// Sixteen `u16` lanes in one AVX2 register: [`U16x16Lane`] for the
+/// narrow-domain permutations in the run-time AVX2 copy (`vpmullw`; the
+/// unsigned `≥` as `max(a, b) = a`).
+#[derive(Clone, Copy, Debug)]
+#[repr(transparent)]
+pub struct U16x16(__m256i);
+
+macro_rules! i16binop {
+    ($tr:ident, $m:ident, $f:ident) => {
+        impl $tr for U16x16 {
+            type Output = U16x16;
+            #[inline(always)]
+            fn $m(self, o: U16x16) -> U16x16 {
+                // SAFETY: AVX2 code paths only (see `binop!`).
+                U16x16(unsafe { $f(self.0, o.0) })
+            }
+        }
+    };
+}
+
+i16binop!(Add, add, _mm256_add_epi16);
+i16binop!(Sub, sub, _mm256_sub_epi16);
+i16binop!(Mul, mul, _mm256_mullo_epi16);
+i16binop!(BitAnd, bitand, _mm256_and_si256);
+i16binop!(BitOr, bitor, _mm256_or_si256);
+
+impl BitXorAssign for U16x16 {
+    #[inline(always)]
+    fn bitxor_assign(&mut self, o: U16x16) {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        self.0 = unsafe { _mm256_xor_si256(self.0, o.0) };
+    }
+}
+
+impl Shr<u32> for U16x16 {
+    type Output = U16x16;
+    #[inline(always)]
+    fn shr(self, n: u32) -> U16x16 {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        U16x16(unsafe { _mm256_srl_epi16(self.0, _mm_cvtsi32_si128(n as i32)) })
+    }
+}
+
+impl Shl<u32> for U16x16 {
+    type Output = U16x16;
+    #[inline(always)]
+    fn shl(self, n: u32) -> U16x16 {
+        // SAFETY: AVX2 code paths only (see `binop!`).
+        U16x16(unsafe { _mm256_sll_epi16(self.0, _mm_cvtsi32_si128(n as i32)) })
+    }
+}
+
+impl IntLane for U16x16 {
+    const NARROWER: u32 = 16;
+    #[inline(always)]
+    fn splat(v: u32) -> Self {
+        // SAFETY (every method): AVX2 code paths only (see `binop!`).
+        U16x16(unsafe { _mm256_set1_epi16(v as u16 as i16) })
+    }
+    #[inline(always)]
+    fn ge(self, o: Self) -> Self {
+        U16x16(unsafe { _mm256_cmpeq_epi16(_mm256_max_epu16(self.0, o.0), self.0) })
+    }
+    #[inline(always)]
+    fn any(self) -> bool {
+        unsafe { _mm256_movemask_epi8(self.0) != 0 }
+    }
+    #[inline(always)]
+    fn select(m: Self, t: Self, f: Self) -> Self {
+        U16x16(unsafe { _mm256_blendv_epi8(f.0, t.0, m.0) })
+    }
+}
+
+impl U16x16Lane for U16x16 {
+    type U32 = U32x8;
+    #[inline(always)]
+    fn from_array(a: [u16; 16]) -> Self {
+        // SAFETY: `a` is 32 bytes; unaligned load.
+        U16x16(unsafe { _mm256_loadu_si256(a.as_ptr().cast()) })
+    }
+    #[inline(always)]
+    fn widen(self) -> [U32x8; 2] {
+        unsafe {
+            [
+                U32x8(_mm256_cvtepu16_epi32(_mm256_castsi256_si128(self.0))),
+                U32x8(_mm256_cvtepu16_epi32(_mm256_extracti128_si256::<1>(self.0))),
+            ]
         }
     }
 }

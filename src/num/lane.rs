@@ -341,6 +341,33 @@ macro_rules! int_lane {
 int_lane!(u32x8, 0, u32);
 int_lane!(u16x16, 16, u16);
 
+/// Sixteen `u16` lanes for the narrow-domain permutations
+/// ([`crate::hash`]'s 16-bit Feistel rounds), at one instruction-set level:
+/// `wide`'s `u16x16` at the compiled level (SSE2 has a native 16-bit
+/// multiply), [`crate::num::avx2::U16x16`] in the run-time AVX2 copy
+/// ([`crate::simd::Isa::U16`]). Arithmetic wraps modulo `2¹⁶`.
+pub trait U16x16Lane: IntLane + Sub<Output = Self> {
+    /// The level's `u32` lanes.
+    type U32: U32x8Lane;
+    /// Lanes from sixteen values.
+    fn from_array(a: [u16; 16]) -> Self;
+    /// Lanes 0–7 and 8–15, zero-extended to 32 bits.
+    fn widen(self) -> [Self::U32; 2];
+}
+
+impl U16x16Lane for u16x16 {
+    type U32 = Wu32x8;
+    #[inline(always)]
+    fn from_array(a: [u16; 16]) -> Self {
+        u16x16::new(a)
+    }
+    #[inline(always)]
+    fn widen(self) -> [Wu32x8; 2] {
+        let h: [wide::u16x8; 2] = bytemuck::cast(self);
+        [Wu32x8(u32x8::from(h[0])), Wu32x8(u32x8::from(h[1]))]
+    }
+}
+
 /// Eight `u32` lanes for the pattern generators' integer hot paths (the
 /// counter-based generator, the hashes, the Sobol′ products, the strata
 /// tests), at one instruction-set level: [`Wu32x8`] at the compiled level,

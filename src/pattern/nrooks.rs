@@ -3,11 +3,12 @@
 use super::sealed::{Generate, Sink};
 use super::{build, check_dims, check_n, drive32, put_flat, Aos, Strata, StrataX8, MAX_STRATA};
 use crate::error::PatternError;
-use crate::hash::{apply16, in_sixteen_bits, permute, widen, PermuteX16, PermuteX8, Shape};
+use crate::hash::{apply16, in_sixteen_bits, permute, PermuteX16, PermuteX8, Shape, KEY_WORDS};
 use crate::num::lane::Wu32x8;
+use crate::num::lane::{IntLane, Lane, U16x16Lane, U32x8Lane};
 use crate::rng::{CounterX8, Seed};
 use crate::simd::Isa;
-use wide::{f32x8, u16x16, u32x8};
+use wide::{f32x8, u32x8};
 
 /// N-rooks sampling (Latin hypercube, McKay, Beckman & Conover 1979; Shirley 1991):
 /// every axis is cut into `N` strata and each stratum of each axis holds exactly one
@@ -104,37 +105,59 @@ impl<const D: usize> NRooks<D> {
         });
     }
 
-    /// [`NRooks::gen_flat`] for narrow domains (`16 < n ≤ 2¹⁶`): the
-    /// permutations run in sixteen 16-bit lanes ([`crate::hash::apply16`]),
-    /// `H = K/2` vectors interleaved. Same values.
+    /// [`NRooks::gen_flat`] for narrow domains (`16 < n ≤ 2¹⁶`), in the lanes
+    /// of the level `I`: the permutations run in sixteen 16-bit lanes
+    /// ([`crate::hash::apply16`]), `H = K/2` vectors interleaved. Same values.
+    /// The chunk loop is written out here, with no closure around the
+    /// permutation (see `pattern::drive8!`), so that the AVX2 copy compiles it
+    /// in 256-bit lanes.
     #[inline(always)]
-    fn gen_flat16<const K: usize, const H: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
+    fn gen_flat16<I: Isa, const K: usize, const H: usize>(
+        &self,
+        seed: Seed,
+        first: u64,
+        flat: &mut [f32],
+    ) {
         debug_assert_eq!(K, 2 * H);
         let keys = Self::keys(seed);
         let shape = Shape::new(self.n);
         // Vector c of sixteen lanes holds flat coordinates 16c + l: axis
         // (16c + l) mod D, which depends on c only through c mod D.
-        let perms: [PermuteX16; D] = core::array::from_fn(|p| {
+        let words: [[I::U16; KEY_WORDS]; D] = core::array::from_fn(|p| {
             let lane_keys =
                 |o: usize| u32x8::new(core::array::from_fn(|l| keys[(16 * p + o + l) % D]));
-            PermuteX16::new(self.n, lane_keys(0), lane_keys(8))
+            PermuteX16::new(self.n, lane_keys(0), lane_keys(8)).words_in::<I::U16>()
         });
-        let offs: [u16x16; H] = core::array::from_fn(|c| {
-            u16x16::new(core::array::from_fn(|l| ((16 * c + l) / D) as u16))
+        let offs: [I::U16; H] = core::array::from_fn(|c| {
+            I::U16::from_array(core::array::from_fn(|l| ((16 * c + l) / D) as u16))
         });
-        self.gen_flat::<K>(seed, first, flat, |k| {
+        let sx = [StrataX8::<I::U32>::new([Strata::new(self.n); 8]); K];
+        let per_chunk = 8 * K / D; // points
+        let chunks = flat.len() / (8 * K);
+        let mut lanes = seed
+            .counter(PURPOSE)
+            .lanes_in::<I::U32>(first * D as u64, 1);
+        let mut it = lanes.chunk_iter::<K>(chunks);
+        while let Some((b, bits)) = it.next() {
             // Point indices are below n ≤ 2¹⁶: they fit the lanes.
-            let k0 = u16x16::splat(k as u16);
-            let idx: [u16x16; H] = core::array::from_fn(|c| k0 + offs[c]);
-            let out = apply16(&shape, idx, |c, w| perms[c % D].word(w));
-            let mut cells = [f32x8::ZERO; K];
-            for c in 0..H {
-                let [a, b] = widen(out[c]);
-                cells[2 * c] = f32x8::from_i32x8(bytemuck::cast(a));
-                cells[2 * c + 1] = f32x8::from_i32x8(bytemuck::cast(b));
+            let k0 = I::U16::splat((first + (per_chunk * b) as u64) as u32);
+            let mut idx = offs;
+            for x in &mut idx {
+                *x = k0 + *x;
             }
-            cells
-        });
+            let out = apply16(&shape, idx, |c, w| words[c % D][w]);
+            let mut cells = [I::F32::splat(0.0); K];
+            for c in 0..H {
+                let [lo, hi] = out[c].widen();
+                cells[2 * c] = lo.to_f32();
+                cells[2 * c + 1] = hi.to_f32();
+            }
+            put_flat(&sx, &cells, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
+        }
+        drop(it);
+        let done = per_chunk * chunks;
+        let (points, _) = flat.as_chunks_mut::<D>();
+        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
     }
 }
 
@@ -155,8 +178,8 @@ impl<const D: usize> Generate<D> for NRooks<D> {
             // domains): 8 in 1D and 2D (four 16-lane chains; 8% faster than
             // 4 at 2D 65536), 12 in 3D.
             match (D, in_sixteen_bits(self.n)) {
-                (1 | 2, true) => self.gen_flat16::<8, 4>(seed, first, flat),
-                (_, true) => self.gen_flat16::<12, 6>(seed, first, flat),
+                (1 | 2, true) => self.gen_flat16::<I, 8, 4>(seed, first, flat),
+                (_, true) => self.gen_flat16::<I, 12, 6>(seed, first, flat),
                 (1 | 2, false) => self.gen_flat32::<4>(seed, first, flat),
                 _ => self.gen_flat32::<12>(seed, first, flat),
             }
