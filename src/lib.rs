@@ -113,7 +113,7 @@
 //!   and the `f32` ray batches ([`world`], [`integrand`]) also run a copy
 //!   compiled with AVX2 + FMA when the CPU has them, chosen at run time
 //!   ([`simd`]; `LINESAMPLE_SIMD=compiled` turns it off), as do the random,
-//!   jittered and Sobol′ fills. The Halton, N-rooks and multi-jittered fills
+//!   jittered, Sobol′, Halton and N-rooks fills. The multi-jittered fills
 //!   run their copy too, which still uses 128-bit halves.
 //! * Every kernel executes the same IEEE operations in either copy, so the
 //!   results are bit-identical in every build and at every level.

@@ -15,10 +15,10 @@
 //! types over `core::arch` in the AVX2 copy. This covers the periodogram
 //! accumulation ([`crate::spectrum::Dft`]) and the `f32` ray batches of
 //! [`crate::world`] and [`crate::integrand::HalfSpace`], and the random,
-//! jittered and Sobol′ pattern fills, whose integer hashes run in 256-bit
-//! lanes there (`vpmulld`). The Halton, N-rooks and multi-jittered fills run
-//! their AVX2 copy with `wide`'s types, so they still compute in 128-bit
-//! halves (the README's "Build flags" table). The scene crate's batches are
+//! jittered, Sobol′, Halton and N-rooks (up to 2¹⁶ points) pattern fills,
+//! whose integer hashes run in 256-bit lanes there (`vpmulld`, `vpmullw`).
+//! The multi-jittered fills and larger N-rooks fills run their AVX2 copy
+//! with `wide`'s types, so they still compute in 128-bit halves (the README's "Build flags" table). The scene crate's batches are
 //! not dispatched yet.
 //!
 //! Code inside a dispatched kernel is written without closures on its hot
