@@ -18,8 +18,9 @@
 //! jittered, Sobol′, Halton and N-rooks (up to 2¹⁶ points) pattern fills,
 //! whose integer hashes run in 256-bit lanes there (`vpmulld`, `vpmullw`).
 //! The multi-jittered fills and larger N-rooks fills run their AVX2 copy
-//! with `wide`'s types, so they still compute in 128-bit halves (the README's "Build flags" table). The scene crate's batches are
-//! not dispatched yet.
+//! with `wide`'s types, so they still compute in 128-bit halves (the
+//! README's "Build flags" table). The scene crate's batches are not
+//! dispatched yet.
 //!
 //! Code inside a dispatched kernel is written without closures on its hot
 //! path (plain loops, the fills' block macros): stable Rust cannot mark a

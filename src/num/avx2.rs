@@ -234,42 +234,49 @@ impl F64Lane for F64x4 {
 pub struct U32x8(__m256i);
 
 macro_rules! ibinop {
-    ($tr:ident, $m:ident, $f:ident) => {
-        impl $tr for U32x8 {
-            type Output = U32x8;
+    ($t:ident, $tr:ident, $m:ident, $f:ident) => {
+        impl $tr for $t {
+            type Output = $t;
             #[inline(always)]
-            fn $m(self, o: U32x8) -> U32x8 {
+            fn $m(self, o: $t) -> $t {
                 // SAFETY: AVX2 code paths only (see `binop!`).
-                U32x8(unsafe { $f(self.0, o.0) })
+                $t(unsafe { $f(self.0, o.0) })
             }
         }
     };
 }
 
-ibinop!(Add, add, _mm256_add_epi32);
-ibinop!(Sub, sub, _mm256_sub_epi32);
-ibinop!(Mul, mul, _mm256_mullo_epi32);
-ibinop!(BitAnd, bitand, _mm256_and_si256);
-ibinop!(BitOr, bitor, _mm256_or_si256);
-ibinop!(BitXor, bitxor, _mm256_xor_si256);
+/// Shifts of every lane by one count (`vpsrl*`/`vpsll*` with the count in
+/// an `xmm` register).
+macro_rules! ishift {
+    ($t:ident, $srl:ident, $sll:ident) => {
+        impl Shr<u32> for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn shr(self, n: u32) -> $t {
+                // SAFETY: AVX2 code paths only (see `binop!`).
+                $t(unsafe { $srl(self.0, _mm_cvtsi32_si128(n as i32)) })
+            }
+        }
 
-impl Shr<u32> for U32x8 {
-    type Output = U32x8;
-    #[inline(always)]
-    fn shr(self, n: u32) -> U32x8 {
-        // SAFETY: AVX2 code paths only (see `binop!`).
-        U32x8(unsafe { _mm256_srl_epi32(self.0, _mm_cvtsi32_si128(n as i32)) })
-    }
+        impl Shl<u32> for $t {
+            type Output = $t;
+            #[inline(always)]
+            fn shl(self, n: u32) -> $t {
+                // SAFETY: AVX2 code paths only (see `binop!`).
+                $t(unsafe { $sll(self.0, _mm_cvtsi32_si128(n as i32)) })
+            }
+        }
+    };
 }
 
-impl Shl<u32> for U32x8 {
-    type Output = U32x8;
-    #[inline(always)]
-    fn shl(self, n: u32) -> U32x8 {
-        // SAFETY: AVX2 code paths only (see `binop!`).
-        U32x8(unsafe { _mm256_sll_epi32(self.0, _mm_cvtsi32_si128(n as i32)) })
-    }
-}
+ibinop!(U32x8, Add, add, _mm256_add_epi32);
+ibinop!(U32x8, Sub, sub, _mm256_sub_epi32);
+ibinop!(U32x8, Mul, mul, _mm256_mullo_epi32);
+ibinop!(U32x8, BitAnd, bitand, _mm256_and_si256);
+ibinop!(U32x8, BitOr, bitor, _mm256_or_si256);
+ibinop!(U32x8, BitXor, bitxor, _mm256_xor_si256);
+ishift!(U32x8, _mm256_srl_epi32, _mm256_sll_epi32);
 
 impl U32x8 {
     /// The lanes with their top bit flipped, so that signed comparisons of
@@ -375,48 +382,18 @@ impl U32x8Lane for U32x8 {
 #[repr(transparent)]
 pub struct U16x16(__m256i);
 
-macro_rules! i16binop {
-    ($tr:ident, $m:ident, $f:ident) => {
-        impl $tr for U16x16 {
-            type Output = U16x16;
-            #[inline(always)]
-            fn $m(self, o: U16x16) -> U16x16 {
-                // SAFETY: AVX2 code paths only (see `binop!`).
-                U16x16(unsafe { $f(self.0, o.0) })
-            }
-        }
-    };
-}
-
-i16binop!(Add, add, _mm256_add_epi16);
-i16binop!(Sub, sub, _mm256_sub_epi16);
-i16binop!(Mul, mul, _mm256_mullo_epi16);
-i16binop!(BitAnd, bitand, _mm256_and_si256);
-i16binop!(BitOr, bitor, _mm256_or_si256);
+ibinop!(U16x16, Add, add, _mm256_add_epi16);
+ibinop!(U16x16, Sub, sub, _mm256_sub_epi16);
+ibinop!(U16x16, Mul, mul, _mm256_mullo_epi16);
+ibinop!(U16x16, BitAnd, bitand, _mm256_and_si256);
+ibinop!(U16x16, BitOr, bitor, _mm256_or_si256);
+ishift!(U16x16, _mm256_srl_epi16, _mm256_sll_epi16);
 
 impl BitXorAssign for U16x16 {
     #[inline(always)]
     fn bitxor_assign(&mut self, o: U16x16) {
         // SAFETY: AVX2 code paths only (see `binop!`).
         self.0 = unsafe { _mm256_xor_si256(self.0, o.0) };
-    }
-}
-
-impl Shr<u32> for U16x16 {
-    type Output = U16x16;
-    #[inline(always)]
-    fn shr(self, n: u32) -> U16x16 {
-        // SAFETY: AVX2 code paths only (see `binop!`).
-        U16x16(unsafe { _mm256_srl_epi16(self.0, _mm_cvtsi32_si128(n as i32)) })
-    }
-}
-
-impl Shl<u32> for U16x16 {
-    type Output = U16x16;
-    #[inline(always)]
-    fn shl(self, n: u32) -> U16x16 {
-        // SAFETY: AVX2 code paths only (see `binop!`).
-        U16x16(unsafe { _mm256_sll_epi16(self.0, _mm_cvtsi32_si128(n as i32)) })
     }
 }
 

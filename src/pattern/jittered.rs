@@ -2,8 +2,8 @@
 
 use super::sealed::{Generate, Sink};
 use super::{
-    advance8, array, build, check_dims, drive8, lanes_of, odometer_step, put_flat, Aos, Strata,
-    StrataX8, MAX_STRATA,
+    advance8, array, build, check_dims, drive8, f32_lanes, lanes_of, odometer_step, put_flat, Aos,
+    Strata, StrataX8, MAX_STRATA,
 };
 use crate::error::PatternError;
 use crate::num::lane::{F32Lane, Lane, U32x8Lane};
@@ -109,7 +109,7 @@ impl<const D: usize> Jittered<D> {
         let sx: [StrataX8<I::U32>; D] =
             core::array::from_fn(|v| StrataX8::new(core::array::from_fn(|l| axes[axis(v, l)])));
         let step: [I::F32; D] = core::array::from_fn(|v| {
-            lanes8(core::array::from_fn(|l| {
+            f32_lanes(core::array::from_fn(|l| {
                 if axis(v, l) == 0 {
                     8.0
                 } else {
@@ -136,7 +136,6 @@ impl<const D: usize> Jittered<D> {
                 }
             }
         }
-        drop(it);
         let done = 8 * blocks;
         let (points, _) = flat.as_chunks_mut::<D>();
         self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
@@ -146,7 +145,7 @@ impl<const D: usize> Jittered<D> {
     /// first point is in `cell`, exact in `f32` (every count is ≤ 2²⁴).
     fn cell_lanes<F: F32Lane>(cell: &[u32; D]) -> [F; D] {
         core::array::from_fn(|v| {
-            lanes8(core::array::from_fn(|l| {
+            f32_lanes(core::array::from_fn(|l| {
                 let (a, q) = ((8 * v + l) % D, ((8 * v + l) / D) as u32);
                 (cell[a] + if a == 0 { q } else { 0 }) as f32
             }))
@@ -174,12 +173,6 @@ impl<const D: usize> Jittered<D> {
             c as u32
         })
     }
-}
-
-/// `f32` lanes from eight values.
-#[inline(always)]
-fn lanes8<F: F32Lane>(a: [f32; 8]) -> F {
-    F::load(&a)
 }
 
 impl<const D: usize> Generate<D> for Jittered<D> {

@@ -703,7 +703,7 @@ pub(crate) struct StrataX8<U: U32x8Lane> {
 
 /// `f32` lanes from eight values.
 #[inline(always)]
-fn f32_lanes<F: F32Lane>(a: [f32; 8]) -> F {
+pub(crate) fn f32_lanes<F: F32Lane>(a: [f32; 8]) -> F {
     <F as Lane>::load(&a)
 }
 

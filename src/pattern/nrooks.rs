@@ -42,39 +42,41 @@ impl<const D: usize> NRooks<D> {
     }
 }
 
-impl<const D: usize> NRooks<D> {
-    /// The flat (point-major) path: a chunk of `K` vectors (`K/D` blocks of 8
-    /// points) holds consecutive stream outputs; lane `l` of vector `w` holds
-    /// axis `(8w + l) mod D` of point `⌊(8w + l)/D⌋` of the chunk, so each
-    /// vector permutes with per-lane axis keys and is stored whole.
-    /// `cells(k)` gives the chunk's `K` vectors of strata (as `f32`) when its
-    /// first point is `k`; the points past the last whole chunk go through
-    /// the scalar path.
-    #[inline(always)]
-    fn gen_flat<const K: usize>(
-        &self,
-        seed: Seed,
-        first: u64,
-        flat: &mut [f32],
-        mut cells: impl FnMut(u64) -> [f32x8; K],
-    ) {
-        let sx = [StrataX8::<Wu32x8>::new([Strata::new(self.n); 8]); K];
-        let per_chunk = 8 * K / D; // points
-        let chunks = flat.len() / (8 * K);
-        let mut lanes = seed.counter(PURPOSE).lanes(first * D as u64, 1);
-        lanes.chunks::<K>(chunks, |b, bits| {
-            let c = cells(first + (per_chunk * b) as u64);
-            let bits = bits.map(Wu32x8);
-            put_flat(&sx, &c, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
-        });
+/// The flat (point-major) path of [`NRooks`]: a chunk of `K` vectors (`K/D`
+/// blocks of 8 points) holds consecutive stream outputs; lane `l` of vector
+/// `w` holds axis `(8w + l) mod D` of point `⌊(8w + l)/D⌋` of the chunk, so
+/// each vector permutes with per-lane axis keys and is stored whole. The
+/// expression `$cells`, with `$k` the chunk's first point, gives its `K`
+/// vectors of strata as `[I::F32; K]`; the points past the last whole chunk
+/// go through the scalar path. A macro so that `$cells` compiles in place in
+/// the dispatched AVX2 copy (see `pattern::drive8!`).
+macro_rules! gen_flat {
+    ($self:ident, $I:ty, $K:expr, $seed:expr, $first:expr, $flat:expr, |$k:ident| $cells:expr) => {{
+        let (seed, first, flat): (Seed, u64, &mut [f32]) = ($seed, $first, $flat);
+        let sx = [StrataX8::<<$I as Isa>::U32>::new([Strata::new($self.n); 8]); $K];
+        let per_chunk = 8 * $K / D; // points
+        let chunks = flat.len() / (8 * $K);
+        let mut lanes = seed
+            .counter(PURPOSE)
+            .lanes_in::<<$I as Isa>::U32>(first * D as u64, 1);
+        let mut it = lanes.chunk_iter::<{ $K }>(chunks);
+        while let Some((b, bits)) = it.next() {
+            let $k = first + (per_chunk * b) as u64;
+            let cells: [<$I as Isa>::F32; $K] = $cells;
+            put_flat(&sx, &cells, &bits, &mut flat[8 * $K * b..8 * $K * (b + 1)]);
+        }
         let done = per_chunk * chunks;
         let (points, _) = flat.as_chunks_mut::<D>();
-        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
-    }
+        $self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
+    }};
+}
 
-    /// [`NRooks::gen_flat`] in 32-bit lanes, four chains at a time
-    /// ([`PermuteX8::apply4`]).
-    #[inline(always)]
+impl<const D: usize> NRooks<D> {
+    /// [`gen_flat!`] in 32-bit lanes, four chains at a time
+    /// ([`PermuteX8::apply4`]), in `wide`'s types at every level. Out of
+    /// line: it gains nothing from the AVX2 copy, and inlined beside the
+    /// narrow path it made that path's loop 30 % slower (v3, 2D, 65536).
+    #[inline(never)]
     fn gen_flat32<const K: usize>(&self, seed: Seed, first: u64, flat: &mut [f32]) {
         let keys = Self::keys(seed);
         let perms: [PermuteX8; D] = core::array::from_fn(|v| {
@@ -86,7 +88,7 @@ impl<const D: usize> NRooks<D> {
         let offs: [u32x8; K] = core::array::from_fn(|w| {
             u32x8::new(core::array::from_fn(|l| ((8 * w + l) / D) as u32))
         });
-        self.gen_flat::<K>(seed, first, flat, |k| {
+        gen_flat!(self, crate::simd::Wide, K, seed, first, flat, |k| {
             // Every lane is a point of the range, so below n.
             let k0 = u32x8::splat(k as u32);
             let mut cells = [f32x8::ZERO; K];
@@ -105,12 +107,9 @@ impl<const D: usize> NRooks<D> {
         });
     }
 
-    /// [`NRooks::gen_flat`] for narrow domains (`16 < n ≤ 2¹⁶`), in the lanes
-    /// of the level `I`: the permutations run in sixteen 16-bit lanes
+    /// [`gen_flat!`] for narrow domains (`16 < n ≤ 2¹⁶`), in the lanes of the
+    /// level `I`: the permutations run in sixteen 16-bit lanes
     /// ([`crate::hash::apply16`]), `H = K/2` vectors interleaved. Same values.
-    /// The chunk loop is written out here, with no closure around the
-    /// permutation (see `pattern::drive8!`), so that the AVX2 copy compiles it
-    /// in 256-bit lanes.
     #[inline(always)]
     fn gen_flat16<I: Isa, const K: usize, const H: usize>(
         &self,
@@ -131,16 +130,9 @@ impl<const D: usize> NRooks<D> {
         let offs: [I::U16; H] = core::array::from_fn(|c| {
             I::U16::from_array(core::array::from_fn(|l| ((16 * c + l) / D) as u16))
         });
-        let sx = [StrataX8::<I::U32>::new([Strata::new(self.n); 8]); K];
-        let per_chunk = 8 * K / D; // points
-        let chunks = flat.len() / (8 * K);
-        let mut lanes = seed
-            .counter(PURPOSE)
-            .lanes_in::<I::U32>(first * D as u64, 1);
-        let mut it = lanes.chunk_iter::<K>(chunks);
-        while let Some((b, bits)) = it.next() {
+        gen_flat!(self, I, K, seed, first, flat, |k| {
             // Point indices are below n ≤ 2¹⁶: they fit the lanes.
-            let k0 = I::U16::splat((first + (per_chunk * b) as u64) as u32);
+            let k0 = I::U16::splat(k as u32);
             let mut idx = offs;
             for x in &mut idx {
                 *x = k0 + *x;
@@ -152,12 +144,8 @@ impl<const D: usize> NRooks<D> {
                 cells[2 * c] = lo.to_f32();
                 cells[2 * c + 1] = hi.to_f32();
             }
-            put_flat(&sx, &cells, &bits, &mut flat[8 * K * b..8 * K * (b + 1)]);
-        }
-        drop(it);
-        let done = per_chunk * chunks;
-        let (points, _) = flat.as_chunks_mut::<D>();
-        self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));
+            cells
+        });
     }
 }
 
@@ -168,8 +156,8 @@ impl<const D: usize> Generate<D> for NRooks<D> {
 
     #[inline(always)]
     fn gen_simd<I: Isa, S: Sink<D>>(&self, seed: Seed, first: u64, sink: &mut S) {
-        // Written over `wide`'s types (the permutations' Feistel rounds are
-        // `IntLane` generic, not yet per level), so every level runs this.
+        // The narrow flat path runs in the lanes of the level `I`; the wide
+        // flat path and the sink path below use `wide`'s types at every level.
         let key = seed.counter(PURPOSE);
         let d = D as u64;
         if let Some(flat) = sink.flat() {

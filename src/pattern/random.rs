@@ -55,7 +55,6 @@ impl<const D: usize> Generate<D> for Random<D> {
             while let Some((b, [bits])) = it.next() {
                 unit_f32x8(bits).store(&mut flat[8 * b..8 * b + 8]);
             }
-            drop(it);
             let done = 8 * vectors / D;
             let (points, _) = flat.as_chunks_mut::<D>();
             self.gen_scalar(seed, first + done as u64, &mut Aos(&mut points[done..]));

@@ -4,7 +4,7 @@
 use super::sealed::{Generate, Sink};
 use super::{array, check_dims, check_n, drive8, unit_f32, unit_f32x8};
 use crate::error::PatternError;
-use crate::num::lane::{Lane, U32x8Lane};
+use crate::num::lane::{Lane, U32x8Lane, Wu32x8};
 use crate::rng::{purpose_mix, Seed};
 use crate::simd::Isa;
 use wide::{u32x4, u32x8};
@@ -297,7 +297,17 @@ macro_rules! lane_ops {
     };
 }
 
-lane_ops!(u32x8, owen_rev_x8, reverse_x8);
+/// [`owen_rev_lanes`] in `wide`'s lanes (the batch random access).
+#[inline(always)]
+fn owen_rev_x8(r: u32x8, add: u32x8, mul: u32x8) -> u32x8 {
+    owen_rev_lanes(Wu32x8(r), Wu32x8(add), Wu32x8(mul)).0
+}
+
+/// [`reverse_lanes`] in `wide`'s lanes.
+#[inline(always)]
+fn reverse_x8(x: u32x8) -> u32x8 {
+    reverse_lanes(Wu32x8(x)).0
+}
 
 /// Lane-wise [`owen_rev`] in the integer lanes of any level (the fills'
 /// dispatched copies).
